@@ -1,0 +1,79 @@
+#ifndef VKGI_LIGHTS_GLSL
+#define VKGI_LIGHTS_GLSL
+// Punctual lights and their shadow maps. The Rust side is src/scene/gpu.rs (GpuLight,
+// GpuShadowView) and src/scene/light.rs, whose spot profile this must match exactly.
+
+struct Light {
+    vec4 position_kind;        // xyz position, w = LIGHT_KIND_*
+    vec4 direction_cos_outer;  // xyz axis, w = cos(outer cone angle)
+    vec4 intensity_cos_inner;  // rgb peak intensity W/sr, w = cos(inner cone angle)
+    uvec4 shadow;              // x = first shadow view, y = view count
+};
+
+struct ShadowView {
+    mat4 view_projection;
+    vec4 params;               // x = shadow texel size per unit distance
+};
+
+float spot_profile(float cos_angle, float cos_outer, float cos_inner) {
+    if (cos_angle <= cos_outer) return 0.0;
+    if (cos_angle >= cos_inner) return 1.0;
+    float t = (cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-9);
+    return t * t;
+}
+
+// Unit direction from `p` toward the light, and the light's radiant intensity toward `p`
+// divided by the squared distance (irradiance on a surface facing the light).
+vec3 light_incidence(Light light, vec3 p, out vec3 to_light, out float distance) {
+    vec3 d = light.position_kind.xyz - p;
+    float dist_sq = max(dot(d, d), 1e-20);
+    distance = sqrt(dist_sq);
+    to_light = d / distance;
+    float profile = 1.0;
+    if (uint(light.position_kind.w) == LIGHT_KIND_SPOT) {
+        profile = spot_profile(dot(light.direction_cos_outer.xyz, -to_light),
+                               light.direction_cos_outer.w, light.intensity_cos_inner.w);
+    }
+    return light.intensity_cos_inner.rgb * (profile / dist_sq);
+}
+
+// Which of a light's shadow views covers `p` (cube face by major axis for point lights).
+uint shadow_view_index(Light light, vec3 p) {
+    if (light.shadow.y <= 1u) return light.shadow.x;
+    vec3 d = p - light.position_kind.xyz;
+    vec3 a = abs(d);
+    uint face;
+    if (a.x >= a.y && a.x >= a.z) face = d.x >= 0.0 ? 0u : 1u;
+    else if (a.y >= a.z) face = d.y >= 0.0 ? 2u : 3u;
+    else face = d.z >= 0.0 ? 4u : 5u;
+    return light.shadow.x + face;
+}
+
+// Fraction of the light reaching `p` (normal `n`), from a 3x3 bilinear PCF of the shadow map
+// (a 4x4-texel tent). The lookup point is pushed along the normal by 1.5 shadow texels.
+float shadow_visibility(sampler2DArray shadow_map, ShadowView view, uint layer, vec3 p, vec3 n,
+                        float distance) {
+    vec3 offset_p = p + n * (1.5 * view.params.x * distance);
+    vec4 clip = view.view_projection * vec4(offset_p, 1.0);
+    if (clip.w <= 0.0) return 1.0;
+    vec3 ndc = clip.xyz / clip.w;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z > 1.0) return 1.0;
+    ivec2 size = textureSize(shadow_map, 0).xy;
+    vec2 t = uv * vec2(size) - 0.5;
+    ivec2 base = ivec2(floor(t));
+    vec2 f = t - vec2(base);
+    float wx[4] = float[4](1.0 - f.x, 1.0, 1.0, f.x);
+    float wy[4] = float[4](1.0 - f.y, 1.0, 1.0, f.y);
+    float lit = 0.0;
+    for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) {
+            ivec2 texel = clamp(base + ivec2(i - 1, j - 1), ivec2(0), size - 1);
+            float occluder = texelFetch(shadow_map, ivec3(texel, int(layer)), 0).r;
+            lit += wx[i] * wy[j] * (ndc.z <= occluder ? 1.0 : 0.0);
+        }
+    }
+    return lit / 9.0;
+}
+
+#endif

@@ -1,0 +1,7 @@
+#ifndef VKGI_MATH_GLSL
+#define VKGI_MATH_GLSL
+
+const float PI = 3.14159265358979323846;
+const float INV_PI = 0.31830988618379067154;
+
+#endif

@@ -1,0 +1,32 @@
+#version 460
+// G-buffer: world position (w = 1 where covered), normal facing the camera, albedo, emission.
+#include "common/scene.glsl"
+
+layout(binding = RASTER_MATERIALS, std430) readonly buffer Materials { Material materials[]; };
+
+layout(push_constant) uniform Push {
+    mat4 view_projection;
+    vec4 camera_position;
+} pc;
+
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) flat in vec3 in_face_normal;
+layout(location = 3) flat in uint in_material;
+
+layout(location = 0) out vec4 out_position;
+layout(location = 1) out vec4 out_normal;
+layout(location = 2) out vec4 out_albedo;
+layout(location = 3) out vec4 out_emission;
+
+void main() {
+    // Surfaces are two-sided: turn both normals toward the viewer.
+    float facing = dot(in_face_normal, pc.camera_position.xyz - in_position) >= 0.0 ? 1.0 : -1.0;
+    vec3 n = normalize(in_normal) * facing;
+    if (dot(n, in_face_normal * facing) <= 0.0) n = in_face_normal * facing;
+    Material m = materials[in_material];
+    out_position = vec4(in_position, 1.0);
+    out_normal = vec4(n, 0.0);
+    out_albedo = vec4(m.albedo.rgb, 1.0);
+    out_emission = vec4(m.emission.rgb, 0.0);
+}

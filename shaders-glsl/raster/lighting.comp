@@ -1,0 +1,49 @@
+#version 460
+// Deferred direct lighting of Lambertian surfaces: emission + albedo/pi * sum of shadowed
+// punctual-light irradiance, into the linear HDR target.
+#include "common/math.glsl"
+#include "common/lights.glsl"
+
+layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
+
+layout(binding = LIGHTING_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
+layout(binding = LIGHTING_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
+layout(binding = LIGHTING_GBUFFER_ALBEDO, rgba8) readonly uniform image2D gbuffer_albedo;
+layout(binding = LIGHTING_GBUFFER_EMISSION, rgba16f) readonly uniform image2D gbuffer_emission;
+layout(binding = LIGHTING_SHADOW_MAP) uniform sampler2DArray shadow_map;
+layout(binding = LIGHTING_LIGHTS, std430) readonly buffer Lights { Light lights[]; };
+layout(binding = LIGHTING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { ShadowView shadow_views[]; };
+layout(binding = LIGHTING_HDR_OUT, rgba32f) writeonly uniform image2D hdr_out;
+
+layout(push_constant) uniform Push {
+    uvec2 size;
+    uint light_count;
+} pc;
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
+    vec4 position = imageLoad(gbuffer_position, pixel);
+    if (position.w == 0.0) {
+        imageStore(hdr_out, pixel, vec4(0.0, 0.0, 0.0, 1.0));
+        return;
+    }
+    vec3 p = position.xyz;
+    vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
+    vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
+    vec3 radiance = imageLoad(gbuffer_emission, pixel).rgb;
+    vec3 irradiance = vec3(0.0);
+    for (uint i = 0u; i < pc.light_count; ++i) {
+        Light light = lights[i];
+        vec3 to_light;
+        float distance;
+        vec3 e = light_incidence(light, p, to_light, distance);
+        float cos_theta = dot(n, to_light);
+        if (cos_theta <= 0.0 || all(equal(e, vec3(0.0)))) continue;
+        uint view = shadow_view_index(light, p);
+        float visibility = shadow_visibility(shadow_map, shadow_views[view], view, p, n, distance);
+        irradiance += e * (cos_theta * visibility);
+    }
+    radiance += albedo * INV_PI * irradiance;
+    imageStore(hdr_out, pixel, vec4(radiance, 1.0));
+}

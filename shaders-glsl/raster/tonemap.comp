@@ -1,0 +1,20 @@
+#version 460
+// Exposure, Reinhard L/(1+L) per channel, sRGB encoding into the 8-bit output image.
+#include "common/color.glsl"
+
+layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
+
+layout(binding = TONEMAP_HDR_IN, rgba32f) readonly uniform image2D hdr_in;
+layout(binding = TONEMAP_LDR_OUT, rgba8) writeonly uniform image2D ldr_out;
+
+layout(push_constant) uniform Push {
+    uvec2 size;
+    float exposure_scale;
+} pc;
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
+    vec3 radiance = imageLoad(hdr_in, pixel).rgb * pc.exposure_scale;
+    imageStore(ldr_out, pixel, vec4(srgb_encode(tonemap_reinhard(radiance)), 1.0));
+}

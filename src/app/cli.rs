@@ -1,0 +1,150 @@
+//! Command-line arguments of every subcommand (clap). The binary parses these and hands them to
+//! [`super::run`].
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+
+use crate::frame::FrameOptions;
+use crate::gpu::GpuOptions;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "vkgi",
+    version,
+    about = "Real-time global illumination on Vulkan, measured against a reference path tracer"
+)]
+pub struct Cli {
+    /// More log output (-v info, -vv debug).
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    pub verbose: u8,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render a scene headless to PNG and/or OpenEXR, optionally profiling every pass.
+    Render(RenderArgs),
+}
+
+/// Which GPU, and whether to validate.
+#[derive(Args, Debug, Clone)]
+pub struct GpuArgs {
+    /// Device index or part of its name (default: VKGI_DEVICE, else discrete > integrated > CPU).
+    #[arg(long)]
+    pub device: Option<String>,
+    /// Enable the Khronos validation layers (also VKGI_VALIDATE=1); errors fail the run.
+    #[arg(long)]
+    pub validate: bool,
+}
+
+impl GpuArgs {
+    pub fn options(&self) -> GpuOptions {
+        let from_env = std::env::var("VKGI_VALIDATE").is_ok_and(|v| v == "1" || v == "true");
+        GpuOptions {
+            validation: self.validate || from_env,
+            device: self.device.clone(),
+        }
+    }
+}
+
+/// Image size, exposure and shadow-map resolution.
+#[derive(Args, Debug, Clone)]
+pub struct FrameArgs {
+    /// Output size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x480", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Exposure in stops, applied before tone mapping (PNG only; the EXR stays linear).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    /// Shadow-map resolution per light view.
+    #[arg(long, default_value_t = 1024)]
+    pub shadow_map: u32,
+}
+
+impl FrameArgs {
+    pub fn options(&self) -> FrameOptions {
+        FrameOptions {
+            width: self.size.0,
+            height: self.size.1,
+            exposure_ev: self.exposure,
+            shadow_map_size: self.shadow_map,
+        }
+    }
+}
+
+/// Where per-pass GPU times go.
+#[derive(Args, Debug, Clone)]
+pub struct ProfileArgs {
+    /// Print per-pass GPU nanoseconds (avg/median/min/max/% of frame).
+    #[arg(long)]
+    pub profile: bool,
+    /// Write the per-pass profile as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub profile_json: Option<PathBuf>,
+    /// Write a Chrome trace (chrome://tracing, Perfetto) of every timed pass.
+    #[arg(long, value_name = "FILE")]
+    pub trace: Option<PathBuf>,
+}
+
+impl ProfileArgs {
+    pub fn wanted(&self) -> bool {
+        self.profile || self.profile_json.is_some() || self.trace.is_some()
+    }
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Tone-mapped PNG output.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Linear radiance as 32-bit float OpenEXR.
+    #[arg(long, value_name = "FILE")]
+    pub hdr: Option<PathBuf>,
+    /// Frames to render (default 1, or 16 when profiling).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    #[command(flatten)]
+    pub profile: ProfileArgs,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+/// Parse `WIDTHxHEIGHT` (range checks happen against the device later).
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let (w, h) = text
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT"))?;
+    let parse = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("'{text}' is not WIDTHxHEIGHT with whole numbers"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!(parse_size("640x480"), Ok((640, 480)));
+        assert_eq!(parse_size("0x0"), Ok((0, 0)));
+        assert!(parse_size("640").is_err());
+        assert!(parse_size("-1x5").is_err());
+        assert!(parse_size("axb").is_err());
+    }
+
+    #[test]
+    fn cli_is_consistent() {
+        use clap::CommandFactory;
+        Cli::command().debug_assert();
+    }
+}

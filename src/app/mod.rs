@@ -1,0 +1,21 @@
+//! The glue behind each subcommand: load, build, run, write, report.
+
+pub mod cli;
+mod output;
+pub mod render;
+
+pub use cli::{Cli, Command};
+
+/// Run one subcommand.
+pub fn run(command: &Command) -> anyhow::Result<()> {
+    match command {
+        Command::Render(args) => render::run(args),
+    }
+}
+
+/// True when the error (or anything it wraps) is the user's bad input (exit code 2).
+pub fn is_input_error(error: &anyhow::Error) -> bool {
+    error
+        .chain()
+        .any(|e| e.downcast_ref::<crate::error::InputError>().is_some())
+}

@@ -1,0 +1,42 @@
+//! Writing what a run produced: images and profiles.
+
+use std::path::Path;
+
+use crate::gpu::Profiler;
+use crate::imageio::{self, HdrImage};
+
+use super::cli::ProfileArgs;
+
+/// Print and write the profile as the arguments ask.
+pub fn write_profile(args: &ProfileArgs, profiler: &Profiler) -> anyhow::Result<()> {
+    let report = profiler.report();
+    if args.profile {
+        print!("{}", report.table());
+    }
+    if let Some(path) = &args.profile_json {
+        imageio::write_text(path, &serde_json::to_string_pretty(&report)?)?;
+    }
+    if let Some(path) = &args.trace {
+        imageio::write_text(path, &serde_json::to_string(&profiler.chrome_trace())?)?;
+    }
+    Ok(())
+}
+
+/// Write the tone-mapped PNG and/or the linear EXR.
+pub fn write_images(
+    png: Option<&Path>,
+    exr: Option<&Path>,
+    ldr: impl FnOnce() -> anyhow::Result<Vec<u8>>,
+    hdr: impl FnOnce() -> anyhow::Result<HdrImage>,
+    (width, height): (u32, u32),
+) -> anyhow::Result<()> {
+    if let Some(path) = png {
+        imageio::write_png(path, width, height, &ldr()?)?;
+        log::info!("wrote {}", path.display());
+    }
+    if let Some(path) = exr {
+        imageio::write_exr(path, &hdr()?)?;
+        log::info!("wrote {}", path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,60 @@
+//! `vkgi render`: a headless render of a scene, optionally profiled.
+
+use anyhow::Context;
+
+use crate::frame::Frame;
+use crate::gpu::Gpu;
+use crate::gpu::frames::FrameRing;
+use crate::imageio::HdrImage;
+use crate::scene::Scene;
+
+use super::cli::RenderArgs;
+use super::output;
+
+/// Frames rendered when profiling and `--frames` is not given.
+const DEFAULT_PROFILE_FRAMES: u32 = 16;
+/// Frames in flight in the frame ring.
+const FRAMES_IN_FLIGHT: usize = 2;
+
+pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let scene = Scene::load(&args.scene)?;
+    let frames = match args.frames {
+        Some(0) => crate::bad_input!("--frames must be at least 1"),
+        Some(n) => n,
+        None if args.profile.wanted() => DEFAULT_PROFILE_FRAMES,
+        None => 1,
+    };
+    let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
+    let frame = Frame::new(&gpu, &scene, args.frame.options())?;
+    let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, FRAMES_IN_FLIGHT)?;
+    ring.profiler
+        .add_note(format!("queue plan: {}", gpu.queues.describe()));
+    for _ in 0..frames {
+        ring.submit_frame(&gpu, &[], |rec| frame.record(rec))?;
+    }
+    ring.finish()?;
+    check_validation(&gpu)?;
+
+    let size = (frame.options.width, frame.options.height);
+    output::write_images(
+        args.out.as_deref(),
+        args.hdr.as_deref(),
+        || Ok(frame.read_ldr(&gpu)?),
+        || Ok(HdrImage::new(size.0, size.1, frame.read_hdr(&gpu)?)),
+        size,
+    )?;
+    if args.out.is_none() && args.hdr.is_none() && !args.profile.wanted() {
+        log::warn!("neither --out nor --hdr given: the render was not saved");
+    }
+    output::write_profile(&args.profile, &ring.profiler)?;
+    check_validation(&gpu)
+}
+
+/// Fail the run if the validation layers reported errors.
+pub fn check_validation(gpu: &Gpu) -> anyhow::Result<()> {
+    let errors = gpu.validation_errors();
+    if errors > 0 {
+        anyhow::bail!("the Vulkan validation layers reported {errors} error(s) (logged above)");
+    }
+    Ok(())
+}

@@ -1,0 +1,372 @@
+//! THE frame, top to bottom: shadow maps -> G-buffer -> direct lighting -> tone mapping.
+//! Every pass of a raster frame is recorded here, in order; GI techniques add their passes
+//! between the G-buffer and tone mapping.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+
+use crate::error::InputError;
+use crate::gpu::{
+    Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc, RasterPass,
+    RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
+};
+use crate::scene::Scene;
+use crate::scene::gpu::SceneBuffers;
+use crate::shader_shared as ids;
+use crate::shaders;
+
+/// Largest image side vkgi renders (also bounded by the device's limit).
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+#[derive(Clone, Debug)]
+pub struct FrameOptions {
+    pub width: u32,
+    pub height: u32,
+    /// Exposure in stops applied before tone mapping.
+    pub exposure_ev: f32,
+    /// Side of each shadow-map layer in texels.
+    pub shadow_map_size: u32,
+}
+
+impl Default for FrameOptions {
+    fn default() -> Self {
+        FrameOptions {
+            width: 640,
+            height: 480,
+            exposure_ev: 0.0,
+            shadow_map_size: 1024,
+        }
+    }
+}
+
+/// The attachments the G-buffer pass writes and lighting passes read.
+pub struct GBuffer {
+    /// xyz world position, w = 1 where a surface was hit, 0 for background.
+    pub position: Image,
+    /// xyz unit normal facing the camera.
+    pub normal: Image,
+    pub albedo: Image,
+    pub emission: Image,
+    pub depth: Image,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct GBufferPush {
+    view_projection: [[f32; 4]; 4],
+    camera_position: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct LightingPush {
+    size: [u32; 2],
+    light_count: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct TonemapPush {
+    size: [u32; 2],
+    exposure_scale: f32,
+}
+
+pub struct Frame {
+    pub options: FrameOptions,
+    pub scene: SceneBuffers,
+    shadow_pipeline: RasterPipeline,
+    gbuffer_pipeline: RasterPipeline,
+    lighting_pipeline: ComputePipeline,
+    tonemap_pipeline: ComputePipeline,
+    pub shadow_map: Image,
+    pub shadow_sampler: Sampler,
+    pub gbuffer: GBuffer,
+    /// Linear HDR radiance (the image every error metric is computed on).
+    pub hdr: Image,
+    /// Tone-mapped, sRGB-encoded 8-bit output.
+    pub ldr: Image,
+    view_projection: Mat4,
+    camera_position: Vec3,
+}
+
+/// Check an image size against vkgi's and the device's limits.
+pub fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), InputError> {
+    let limit = MAX_IMAGE_SIDE.min(gpu.info.max_image_dimension_2d);
+    if width == 0 || height == 0 || width > limit || height > limit {
+        return Err(InputError::new(format!(
+            "image size {width}x{height} is out of range: each side must be 1..={limit}"
+        )));
+    }
+    Ok(())
+}
+
+impl Frame {
+    pub fn new(gpu: &Gpu, scene: &Scene, options: FrameOptions) -> anyhow::Result<Frame> {
+        check_image_size(gpu, options.width, options.height)?;
+        let shadow_limit = 8192.min(gpu.info.max_image_dimension_2d);
+        if !(16..=shadow_limit).contains(&options.shadow_map_size) {
+            return Err(InputError::new(format!(
+                "shadow map size {} is out of range 16..={shadow_limit}",
+                options.shadow_map_size
+            ))
+            .into());
+        }
+        if !options.exposure_ev.is_finite() || options.exposure_ev.abs() > 64.0 {
+            return Err(InputError::new(format!(
+                "exposure {} EV is out of range -64..=64",
+                options.exposure_ev
+            ))
+            .into());
+        }
+        let scene_buffers = SceneBuffers::upload(gpu, scene, options.shadow_map_size)?;
+        let (w, h) = (options.width, options.height);
+
+        let shadow_pipeline = RasterPipeline::new(
+            gpu,
+            &RasterPipelineDesc {
+                name: "shadow map",
+                vertex: shaders::RASTER_SHADOW_VERT,
+                fragment: None,
+                color_formats: &[],
+                depth_format: Some(vk::Format::D32_SFLOAT),
+                depth_bias: Some((1.25, 1.75)),
+            },
+        )?;
+        let gbuffer_formats = [
+            vk::Format::R32G32B32A32_SFLOAT,
+            vk::Format::R16G16B16A16_SFLOAT,
+            vk::Format::R8G8B8A8_UNORM,
+            vk::Format::R16G16B16A16_SFLOAT,
+        ];
+        let gbuffer_pipeline = RasterPipeline::new(
+            gpu,
+            &RasterPipelineDesc {
+                name: "g-buffer",
+                vertex: shaders::RASTER_GBUFFER_VERT,
+                fragment: Some(shaders::RASTER_GBUFFER_FRAG),
+                color_formats: &gbuffer_formats,
+                depth_format: Some(vk::Format::D32_SFLOAT),
+                depth_bias: None,
+            },
+        )?;
+        let none = Specialization::new();
+        let lighting_pipeline =
+            ComputePipeline::new(gpu, "direct lighting", shaders::RASTER_LIGHTING_COMP, &none)?;
+        let tonemap_pipeline =
+            ComputePipeline::new(gpu, "tone map", shaders::RASTER_TONEMAP_COMP, &none)?;
+
+        let shadow_layers = scene_buffers.shadow_view_matrices.len().max(1) as u32;
+        let shadow_map = gpu.create_image(&ImageDesc {
+            layers: shadow_layers,
+            array: true,
+            ..ImageDesc::new_2d(
+                "shadow map",
+                vk::Format::D32_SFLOAT,
+                options.shadow_map_size,
+                options.shadow_map_size,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            )
+        })?;
+        let shadow_sampler =
+            gpu.create_sampler(vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
+        let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let gbuffer = GBuffer {
+            position: gpu.create_image(&ImageDesc::new_2d(
+                "g-buffer position",
+                gbuffer_formats[0],
+                w,
+                h,
+                attachment,
+            ))?,
+            normal: gpu.create_image(&ImageDesc::new_2d(
+                "g-buffer normal",
+                gbuffer_formats[1],
+                w,
+                h,
+                attachment,
+            ))?,
+            albedo: gpu.create_image(&ImageDesc::new_2d(
+                "g-buffer albedo",
+                gbuffer_formats[2],
+                w,
+                h,
+                attachment,
+            ))?,
+            emission: gpu.create_image(&ImageDesc::new_2d(
+                "g-buffer emission",
+                gbuffer_formats[3],
+                w,
+                h,
+                attachment,
+            ))?,
+            depth: gpu.create_image(&ImageDesc::new_2d(
+                "g-buffer depth",
+                vk::Format::D32_SFLOAT,
+                w,
+                h,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            ))?,
+        };
+        let storage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+        let hdr = gpu.create_image(&ImageDesc::new_2d(
+            "hdr radiance",
+            vk::Format::R32G32B32A32_SFLOAT,
+            w,
+            h,
+            storage,
+        ))?;
+        let ldr = gpu.create_image(&ImageDesc::new_2d(
+            "ldr output",
+            vk::Format::R8G8B8A8_UNORM,
+            w,
+            h,
+            storage,
+        ))?;
+
+        let aspect = w as f32 / h as f32;
+        Ok(Frame {
+            options,
+            scene: scene_buffers,
+            shadow_pipeline,
+            gbuffer_pipeline,
+            lighting_pipeline,
+            tonemap_pipeline,
+            shadow_map,
+            shadow_sampler,
+            gbuffer,
+            hdr,
+            ldr,
+            view_projection: scene.camera.view_projection(
+                aspect,
+                scene.bounds_min,
+                scene.bounds_max,
+            ),
+            camera_position: scene.camera.position,
+        })
+    }
+
+    /// Shadow maps: one depth layer per shadow view.
+    pub fn record_shadows(&self, rec: &mut Recorder) -> GpuResult<()> {
+        for (layer, view_projection) in self.scene.shadow_view_matrices.iter().enumerate() {
+            let push = view_projection.to_cols_array_2d();
+            rec.raster(&RasterPass {
+                name: "shadow map",
+                pipeline: &self.shadow_pipeline,
+                bindings: &[Binding::read(ids::RASTER_VERTICES, &self.scene.vertices)],
+                push: bytemuck::bytes_of(&push),
+                color: &[],
+                depth: Some((&self.shadow_map, layer as u32)),
+                vertex_count: self.scene.vertex_count,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The G-buffer from the camera.
+    pub fn record_gbuffer(&self, rec: &mut Recorder) -> GpuResult<()> {
+        let push = GBufferPush {
+            view_projection: self.view_projection.to_cols_array_2d(),
+            camera_position: self.camera_position.extend(1.0).to_array(),
+        };
+        let g = &self.gbuffer;
+        rec.raster(&RasterPass {
+            name: "g-buffer",
+            pipeline: &self.gbuffer_pipeline,
+            bindings: &[
+                Binding::read(ids::RASTER_VERTICES, &self.scene.vertices),
+                Binding::read(
+                    ids::RASTER_TRIANGLE_MATERIALS,
+                    &self.scene.triangle_materials,
+                ),
+                Binding::read(ids::RASTER_MATERIALS, &self.scene.materials),
+            ],
+            push: bytemuck::bytes_of(&push),
+            color: &[
+                (&g.position, [0.0; 4]),
+                (&g.normal, [0.0; 4]),
+                (&g.albedo, [0.0; 4]),
+                (&g.emission, [0.0; 4]),
+            ],
+            depth: Some((&g.depth, 0)),
+            vertex_count: self.scene.vertex_count,
+        })
+    }
+
+    /// Direct light (and emission) into the HDR target.
+    pub fn record_direct_lighting(&self, rec: &mut Recorder) -> GpuResult<()> {
+        let g = &self.gbuffer;
+        let push = LightingPush {
+            size: [self.options.width, self.options.height],
+            light_count: self.scene.light_count,
+        };
+        rec.compute(&ComputePass {
+            name: "direct lighting",
+            pipeline: &self.lighting_pipeline,
+            bindings: &[
+                Binding::image_read(ids::LIGHTING_GBUFFER_POSITION, &g.position),
+                Binding::image_read(ids::LIGHTING_GBUFFER_NORMAL, &g.normal),
+                Binding::image_read(ids::LIGHTING_GBUFFER_ALBEDO, &g.albedo),
+                Binding::image_read(ids::LIGHTING_GBUFFER_EMISSION, &g.emission),
+                Binding::sampled(
+                    ids::LIGHTING_SHADOW_MAP,
+                    &self.shadow_map,
+                    &self.shadow_sampler,
+                ),
+                Binding::read(ids::LIGHTING_LIGHTS, &self.scene.lights),
+                Binding::read(ids::LIGHTING_SHADOW_VIEWS, &self.scene.shadow_views),
+                Binding::image_write(ids::LIGHTING_HDR_OUT, &self.hdr),
+            ],
+            push: bytemuck::bytes_of(&push),
+            threads: [self.options.width, self.options.height, 1],
+        })
+    }
+
+    /// Exposure, tone mapping and sRGB encoding into the 8-bit output.
+    pub fn record_tonemap(&self, rec: &mut Recorder) -> GpuResult<()> {
+        let push = TonemapPush {
+            size: [self.options.width, self.options.height],
+            exposure_scale: self.options.exposure_ev.exp2(),
+        };
+        rec.compute(&ComputePass {
+            name: "tone map",
+            pipeline: &self.tonemap_pipeline,
+            bindings: &[
+                Binding::image_read(ids::TONEMAP_HDR_IN, &self.hdr),
+                Binding::image_write(ids::TONEMAP_LDR_OUT, &self.ldr),
+            ],
+            push: bytemuck::bytes_of(&push),
+            threads: [self.options.width, self.options.height, 1],
+        })
+    }
+
+    /// The whole frame, in order.
+    pub fn record(&self, rec: &mut Recorder) -> GpuResult<()> {
+        self.record_shadows(rec)?;
+        self.record_gbuffer(rec)?;
+        self.record_direct_lighting(rec)?;
+        self.record_tonemap(rec)
+    }
+
+    /// The linear HDR radiance, RGB per pixel, row-major from the top-left.
+    pub fn read_hdr(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 3]>> {
+        let bytes = gpu.read_image(&self.hdr)?;
+        Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)
+            .iter()
+            .map(|p| [p[0], p[1], p[2]])
+            .collect())
+    }
+
+    /// The tone-mapped sRGB output, RGBA8 per pixel.
+    pub fn read_ldr(&self, gpu: &Gpu) -> GpuResult<Vec<u8>> {
+        gpu.read_image(&self.ldr)
+    }
+
+    /// G-buffer world positions (w = 0 for background), for tests and masks.
+    pub fn read_positions(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 4]>> {
+        let bytes = gpu.read_image(&self.gbuffer.position)?;
+        Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec())
+    }
+}

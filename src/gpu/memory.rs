@@ -1,0 +1,489 @@
+//! Buffers, images and samplers on gpu-allocator. Each resource carries its own synchronisation
+//! state (last write, readers since, image layout) so the pass recorder can place barriers.
+
+use std::cell::Cell;
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
+
+use super::context::{DeviceShared, Gpu};
+use super::{GpuError, GpuResult, vk_err};
+
+/// What the last accesses to a resource were; see `pass::Access`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SyncState {
+    pub layout: vk::ImageLayout,
+    pub write_stage: vk::PipelineStageFlags2,
+    pub write_access: vk::AccessFlags2,
+    pub read_stages: vk::PipelineStageFlags2,
+    pub read_access: vk::AccessFlags2,
+}
+
+#[derive(Clone, Debug)]
+pub struct BufferDesc<'a> {
+    pub name: &'a str,
+    pub size: u64,
+    pub usage: vk::BufferUsageFlags,
+    pub location: MemoryLocation,
+}
+
+impl<'a> BufferDesc<'a> {
+    /// A device-local storage buffer that can also be copied to and from.
+    pub fn storage(name: &'a str, size: u64) -> Self {
+        BufferDesc {
+            name,
+            size,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_DST
+                | vk::BufferUsageFlags::TRANSFER_SRC,
+            location: MemoryLocation::GpuOnly,
+        }
+    }
+}
+
+pub struct Buffer {
+    shared: Arc<DeviceShared>,
+    pub raw: vk::Buffer,
+    allocation: Option<Allocation>,
+    pub size: u64,
+    pub name: String,
+    pub(crate) sync: Cell<SyncState>,
+}
+
+impl Buffer {
+    /// Copy bytes into a host-visible buffer (CpuToGpu or GpuToCpu memory).
+    pub fn write_mapped(&mut self, offset: u64, bytes: &[u8]) -> GpuResult<()> {
+        let name = self.name.clone();
+        let slice = self
+            .allocation
+            .as_mut()
+            .and_then(|a| a.mapped_slice_mut())
+            .ok_or_else(|| GpuError::Setup(format!("buffer '{name}' is not host-visible")))?;
+        let start = offset as usize;
+        let end = start + bytes.len();
+        if end > slice.len() {
+            return Err(GpuError::Setup(format!(
+                "write of {} bytes at {offset} overflows buffer '{name}' of {} bytes",
+                bytes.len(),
+                slice.len()
+            )));
+        }
+        slice[start..end].copy_from_slice(bytes);
+        Ok(())
+    }
+
+    /// The bytes of a host-visible buffer.
+    pub fn mapped(&self) -> GpuResult<&[u8]> {
+        self.allocation
+            .as_ref()
+            .and_then(|a| a.mapped_slice())
+            .map(|s| &s[..self.size as usize])
+            .ok_or_else(|| GpuError::Setup(format!("buffer '{}' is not host-visible", self.name)))
+    }
+}
+
+impl Drop for Buffer {
+    fn drop(&mut self) {
+        if let Some(allocation) = self.allocation.take()
+            && let Ok(mut allocator) = self.shared.allocator.lock()
+        {
+            let _ = allocator.free(allocation);
+        }
+        // SAFETY: the owner guarantees the GPU no longer uses the buffer (frames are waited on
+        // before resources are dropped).
+        unsafe { self.shared.device.destroy_buffer(self.raw, None) };
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct ImageDesc<'a> {
+    pub name: &'a str,
+    pub format: vk::Format,
+    pub extent: vk::Extent3D,
+    pub kind: vk::ImageType,
+    pub layers: u32,
+    /// View the layers as an array (2D_ARRAY), even when there is only one.
+    pub array: bool,
+    pub usage: vk::ImageUsageFlags,
+}
+
+impl<'a> ImageDesc<'a> {
+    pub fn new_2d(
+        name: &'a str,
+        format: vk::Format,
+        width: u32,
+        height: u32,
+        usage: vk::ImageUsageFlags,
+    ) -> Self {
+        ImageDesc {
+            name,
+            format,
+            extent: vk::Extent3D {
+                width,
+                height,
+                depth: 1,
+            },
+            kind: vk::ImageType::TYPE_2D,
+            layers: 1,
+            array: false,
+            usage,
+        }
+    }
+}
+
+pub struct Image {
+    shared: Arc<DeviceShared>,
+    pub raw: vk::Image,
+    /// A view of every layer (2D, 2D array or 3D).
+    pub view: vk::ImageView,
+    /// One 2D view per layer, for rendering into a single layer.
+    pub layer_views: Vec<vk::ImageView>,
+    allocation: Option<Allocation>,
+    pub format: vk::Format,
+    pub extent: vk::Extent3D,
+    pub layers: u32,
+    pub aspect: vk::ImageAspectFlags,
+    pub name: String,
+    pub(crate) sync: Cell<SyncState>,
+}
+
+impl Image {
+    pub fn width(&self) -> u32 {
+        self.extent.width
+    }
+    pub fn height(&self) -> u32 {
+        self.extent.height
+    }
+    pub fn subresource_range(&self) -> vk::ImageSubresourceRange {
+        vk::ImageSubresourceRange {
+            aspect_mask: self.aspect,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: self.layers,
+        }
+    }
+}
+
+impl Drop for Image {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees the GPU no longer uses the image or its views.
+        unsafe {
+            for &v in &self.layer_views {
+                self.shared.device.destroy_image_view(v, None);
+            }
+            self.shared.device.destroy_image_view(self.view, None);
+        }
+        if let Some(allocation) = self.allocation.take()
+            && let Ok(mut allocator) = self.shared.allocator.lock()
+        {
+            let _ = allocator.free(allocation);
+        }
+        // SAFETY: as above.
+        unsafe { self.shared.device.destroy_image(self.raw, None) };
+    }
+}
+
+pub struct Sampler {
+    shared: Arc<DeviceShared>,
+    pub raw: vk::Sampler,
+}
+
+impl Drop for Sampler {
+    fn drop(&mut self) {
+        // SAFETY: the owner guarantees no pending command uses the sampler.
+        unsafe { self.shared.device.destroy_sampler(self.raw, None) };
+    }
+}
+
+fn is_depth_format(format: vk::Format) -> bool {
+    matches!(
+        format,
+        vk::Format::D32_SFLOAT | vk::Format::D16_UNORM | vk::Format::D24_UNORM_S8_UINT
+    )
+}
+
+impl Gpu {
+    pub fn create_buffer(&self, desc: &BufferDesc) -> GpuResult<Buffer> {
+        let device = &self.shared.device;
+        let families = self.queues.families();
+        let mut info = vk::BufferCreateInfo::default()
+            .size(desc.size.max(4))
+            .usage(desc.usage);
+        info = if families.len() > 1 {
+            info.sharing_mode(vk::SharingMode::CONCURRENT)
+                .queue_family_indices(&families)
+        } else {
+            info.sharing_mode(vk::SharingMode::EXCLUSIVE)
+        };
+        // SAFETY: valid create info; the buffer is destroyed in Buffer::drop.
+        let raw = unsafe { device.create_buffer(&info, None) }
+            .map_err(vk_err(&format!("creating buffer '{}'", desc.name)))?;
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
+        let allocation = self.allocate(desc.name, requirements, desc.location, true);
+        let allocation = match allocation {
+            Ok(a) => a,
+            Err(e) => {
+                // SAFETY: not bound or used yet.
+                unsafe { device.destroy_buffer(raw, None) };
+                return Err(e);
+            }
+        };
+        // SAFETY: memory comes from the allocator for these requirements; bound once.
+        unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
+            .map_err(vk_err(&format!("binding memory of buffer '{}'", desc.name)))?;
+        self.shared.set_name(raw, desc.name);
+        Ok(Buffer {
+            shared: self.shared.clone(),
+            raw,
+            allocation: Some(allocation),
+            size: desc.size,
+            name: desc.name.to_string(),
+            sync: Cell::new(SyncState::default()),
+        })
+    }
+
+    pub fn create_image(&self, desc: &ImageDesc) -> GpuResult<Image> {
+        let device = &self.shared.device;
+        let families = self.queues.families();
+        let mut info = vk::ImageCreateInfo::default()
+            .image_type(desc.kind)
+            .format(desc.format)
+            .extent(desc.extent)
+            .mip_levels(1)
+            .array_layers(desc.layers)
+            .samples(vk::SampleCountFlags::TYPE_1)
+            .tiling(vk::ImageTiling::OPTIMAL)
+            .usage(desc.usage)
+            .initial_layout(vk::ImageLayout::UNDEFINED);
+        info = if families.len() > 1 {
+            info.sharing_mode(vk::SharingMode::CONCURRENT)
+                .queue_family_indices(&families)
+        } else {
+            info.sharing_mode(vk::SharingMode::EXCLUSIVE)
+        };
+        // SAFETY: valid create info; destroyed in Image::drop.
+        let raw = unsafe { device.create_image(&info, None) }
+            .map_err(vk_err(&format!("creating image '{}'", desc.name)))?;
+        // SAFETY: `raw` was just created on this device.
+        let requirements = unsafe { device.get_image_memory_requirements(raw) };
+        let allocation =
+            match self.allocate(desc.name, requirements, MemoryLocation::GpuOnly, false) {
+                Ok(a) => a,
+                Err(e) => {
+                    // SAFETY: not bound or used yet.
+                    unsafe { device.destroy_image(raw, None) };
+                    return Err(e);
+                }
+            };
+        // SAFETY: memory from the allocator for these requirements; bound once.
+        unsafe { device.bind_image_memory(raw, allocation.memory(), allocation.offset()) }
+            .map_err(vk_err(&format!("binding memory of image '{}'", desc.name)))?;
+        self.shared.set_name(raw, desc.name);
+        let aspect = if is_depth_format(desc.format) {
+            vk::ImageAspectFlags::DEPTH
+        } else {
+            vk::ImageAspectFlags::COLOR
+        };
+        let array = desc.array || desc.layers > 1;
+        let view_type = match (desc.kind, array) {
+            (vk::ImageType::TYPE_3D, _) => vk::ImageViewType::TYPE_3D,
+            (_, false) => vk::ImageViewType::TYPE_2D,
+            (_, true) => vk::ImageViewType::TYPE_2D_ARRAY,
+        };
+        let make_view = |view_type, base_layer, layer_count| {
+            let info = vk::ImageViewCreateInfo::default()
+                .image(raw)
+                .view_type(view_type)
+                .format(desc.format)
+                .subresource_range(vk::ImageSubresourceRange {
+                    aspect_mask: aspect,
+                    base_mip_level: 0,
+                    level_count: 1,
+                    base_array_layer: base_layer,
+                    layer_count,
+                });
+            // SAFETY: the image is bound to memory and the range lies inside it.
+            unsafe { device.create_image_view(&info, None) }
+                .map_err(vk_err(&format!("creating a view of image '{}'", desc.name)))
+        };
+        let mut image = Image {
+            shared: self.shared.clone(),
+            raw,
+            view: vk::ImageView::null(),
+            layer_views: Vec::new(),
+            allocation: Some(allocation),
+            format: desc.format,
+            extent: desc.extent,
+            layers: desc.layers,
+            aspect,
+            name: desc.name.to_string(),
+            sync: Cell::new(SyncState::default()),
+        };
+        // From here on, Image::drop cleans up whatever views were made.
+        image.view = make_view(view_type, 0, desc.layers)?;
+        if array {
+            for layer in 0..desc.layers {
+                let view = make_view(vk::ImageViewType::TYPE_2D, layer, 1)?;
+                image.layer_views.push(view);
+            }
+        }
+        Ok(image)
+    }
+
+    /// A sampler; `compare` makes a depth-comparison sampler.
+    pub fn create_sampler(
+        &self,
+        filter: vk::Filter,
+        address: vk::SamplerAddressMode,
+    ) -> GpuResult<Sampler> {
+        let info = vk::SamplerCreateInfo::default()
+            .mag_filter(filter)
+            .min_filter(filter)
+            .mipmap_mode(vk::SamplerMipmapMode::NEAREST)
+            .address_mode_u(address)
+            .address_mode_v(address)
+            .address_mode_w(address)
+            .border_color(vk::BorderColor::FLOAT_TRANSPARENT_BLACK)
+            .max_lod(0.0);
+        // SAFETY: valid create info; destroyed in Sampler::drop.
+        let raw = unsafe { self.shared.device.create_sampler(&info, None) }
+            .map_err(vk_err("creating a sampler"))?;
+        Ok(Sampler {
+            shared: self.shared.clone(),
+            raw,
+        })
+    }
+
+    fn allocate(
+        &self,
+        name: &str,
+        requirements: vk::MemoryRequirements,
+        location: MemoryLocation,
+        linear: bool,
+    ) -> GpuResult<Allocation> {
+        let mut allocator = self
+            .shared
+            .allocator
+            .lock()
+            .map_err(|_| GpuError::Setup("allocator lock poisoned".into()))?;
+        allocator
+            .allocate(&AllocationCreateDesc {
+                name,
+                requirements,
+                location,
+                linear,
+                allocation_scheme: AllocationScheme::GpuAllocatorManaged,
+            })
+            .map_err(|e| GpuError::Allocation {
+                what: name.to_string(),
+                message: e.to_string(),
+            })
+    }
+
+    /// A device-local buffer holding `data`, uploaded through a staging buffer.
+    pub fn upload_buffer(
+        &self,
+        name: &str,
+        usage: vk::BufferUsageFlags,
+        data: &[u8],
+    ) -> GpuResult<Buffer> {
+        let buffer = self.create_buffer(&BufferDesc {
+            name,
+            size: data.len() as u64,
+            usage: usage | vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuOnly,
+        })?;
+        if !data.is_empty() {
+            self.write_buffer(&buffer, data)?;
+        }
+        Ok(buffer)
+    }
+
+    /// A device-local storage buffer holding `data` (never empty: at least 16 zero bytes).
+    pub fn upload_storage(&self, name: &str, data: &[u8]) -> GpuResult<Buffer> {
+        let padded;
+        let data = if data.is_empty() {
+            padded = [0u8; 16];
+            &padded[..]
+        } else {
+            data
+        };
+        self.upload_buffer(
+            name,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            data,
+        )
+    }
+
+    /// Overwrite the start of a device-local buffer (which must allow TRANSFER_DST) with `data`.
+    pub fn write_buffer(&self, buffer: &Buffer, data: &[u8]) -> GpuResult<()> {
+        let staging_name = format!("{} (staging)", buffer.name);
+        let mut staging = self.create_buffer(&BufferDesc {
+            name: &staging_name,
+            size: data.len() as u64,
+            usage: vk::BufferUsageFlags::TRANSFER_SRC,
+            location: MemoryLocation::CpuToGpu,
+        })?;
+        staging.write_mapped(0, data)?;
+        self.one_shot(|rec| {
+            rec.copy_buffer("upload", &staging, buffer, data.len() as u64);
+            Ok(())
+        })
+    }
+
+    /// The contents of a buffer, copied back through a host-visible staging buffer.
+    pub fn read_buffer(&self, buffer: &Buffer) -> GpuResult<Vec<u8>> {
+        let staging_name = format!("{} (readback)", buffer.name);
+        let staging = self.create_buffer(&BufferDesc {
+            name: &staging_name,
+            size: buffer.size,
+            usage: vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuToCpu,
+        })?;
+        self.one_shot(|rec| {
+            rec.copy_buffer("readback", buffer, &staging, buffer.size);
+            rec.host_read(&staging);
+            Ok(())
+        })?;
+        Ok(staging.mapped()?.to_vec())
+    }
+
+    /// The texels of layer 0 of a 2D colour image, tightly packed.
+    pub fn read_image(&self, image: &Image) -> GpuResult<Vec<u8>> {
+        let bytes = u64::from(image.width())
+            * u64::from(image.height())
+            * u64::from(image.extent.depth)
+            * format_bytes(image.format)?;
+        let staging = self.create_buffer(&BufferDesc {
+            name: "image readback",
+            size: bytes,
+            usage: vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuToCpu,
+        })?;
+        self.one_shot(|rec| {
+            rec.copy_image_to_buffer("readback", image, &staging);
+            rec.host_read(&staging);
+            Ok(())
+        })?;
+        Ok(staging.mapped()?.to_vec())
+    }
+}
+
+/// Bytes per texel of the formats vkgi reads back.
+pub fn format_bytes(format: vk::Format) -> GpuResult<u64> {
+    Ok(match format {
+        vk::Format::R8G8B8A8_UNORM | vk::Format::R8G8B8A8_SRGB | vk::Format::R32_SFLOAT => 4,
+        vk::Format::D32_SFLOAT | vk::Format::R32_UINT => 4,
+        vk::Format::R16G16B16A16_SFLOAT => 8,
+        vk::Format::R32G32B32A32_SFLOAT => 16,
+        other => {
+            return Err(GpuError::Setup(format!(
+                "no readback size known for {other:?}"
+            )));
+        }
+    })
+}

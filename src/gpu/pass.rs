@@ -1,0 +1,792 @@
+//! The one place a pass is recorded. A pass is declared in one expression (name, pipeline,
+//! bindings with read/write intent, push constants, size); the recorder checks the bindings
+//! against the shader's interface, places the barriers the declared accesses need, and wraps the
+//! work in a debug label and a timestamp scope, so no pass can forget any of them.
+
+use ash::vk;
+
+use super::context::Gpu;
+use super::memory::{Buffer, Image, SyncState};
+use super::pipeline::{ComputePipeline, PipelineCore, RasterPipeline};
+use super::profiler::FrameQueries;
+use super::reflect::DescriptorKind;
+use super::{GpuError, GpuResult};
+
+/// How a pass touches a resource; decides the pipeline stage, access mask and image layout.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    ComputeRead,
+    /// Read and write from a compute shader (storage).
+    ComputeWrite,
+    /// Sampled read (texture) from a compute shader.
+    ComputeSampled,
+    /// Storage-buffer read in the vertex or fragment stage.
+    GraphicsRead,
+    ColorAttachment,
+    DepthAttachment,
+    TransferRead,
+    TransferWrite,
+    HostRead,
+}
+
+impl Access {
+    fn stage_access_layout(self) -> (vk::PipelineStageFlags2, vk::AccessFlags2, vk::ImageLayout) {
+        use vk::{AccessFlags2 as A, ImageLayout as L, PipelineStageFlags2 as S};
+        match self {
+            Access::ComputeRead => (S::COMPUTE_SHADER, A::SHADER_STORAGE_READ, L::GENERAL),
+            Access::ComputeWrite => (
+                S::COMPUTE_SHADER,
+                A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+                L::GENERAL,
+            ),
+            Access::ComputeSampled => (
+                S::COMPUTE_SHADER,
+                A::SHADER_SAMPLED_READ,
+                L::SHADER_READ_ONLY_OPTIMAL,
+            ),
+            Access::GraphicsRead => (
+                S::VERTEX_SHADER | S::FRAGMENT_SHADER,
+                A::SHADER_STORAGE_READ,
+                L::GENERAL,
+            ),
+            Access::ColorAttachment => (
+                S::COLOR_ATTACHMENT_OUTPUT,
+                A::COLOR_ATTACHMENT_READ | A::COLOR_ATTACHMENT_WRITE,
+                L::COLOR_ATTACHMENT_OPTIMAL,
+            ),
+            Access::DepthAttachment => (
+                S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+                A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                L::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+            Access::TransferRead => (
+                S::COPY | S::CLEAR,
+                A::TRANSFER_READ,
+                L::TRANSFER_SRC_OPTIMAL,
+            ),
+            Access::TransferWrite => (
+                S::COPY | S::CLEAR,
+                A::TRANSFER_WRITE,
+                L::TRANSFER_DST_OPTIMAL,
+            ),
+            Access::HostRead => (S::HOST, A::HOST_READ, L::GENERAL),
+        }
+    }
+
+    fn writes(self) -> bool {
+        matches!(
+            self,
+            Access::ComputeWrite
+                | Access::ColorAttachment
+                | Access::DepthAttachment
+                | Access::TransferWrite
+        )
+    }
+}
+
+/// The barrier, if any, that must precede `access` to a resource in state `state`; updates the
+/// state. Read-after-write and layout changes wait on the last write; writes also wait on every
+/// read since it (write-after-read); reads already made visible need nothing.
+fn transition(
+    state: &mut SyncState,
+    access: Access,
+    is_image: bool,
+) -> Option<(
+    vk::PipelineStageFlags2,
+    vk::AccessFlags2,
+    vk::PipelineStageFlags2,
+    vk::AccessFlags2,
+    vk::ImageLayout,
+)> {
+    let (stage, mask, layout) = access.stage_access_layout();
+    let old_layout = state.layout;
+    let layout_change = is_image && state.layout != layout;
+    if access.writes() || layout_change {
+        let src_stage = state.write_stage | state.read_stages;
+        let src_access = state.write_access;
+        *state = SyncState {
+            layout: if is_image {
+                layout
+            } else {
+                vk::ImageLayout::UNDEFINED
+            },
+            write_stage: stage,
+            write_access: if access.writes() {
+                mask
+            } else {
+                vk::AccessFlags2::NONE
+            },
+            read_stages: if access.writes() {
+                vk::PipelineStageFlags2::NONE
+            } else {
+                stage
+            },
+            read_access: if access.writes() {
+                vk::AccessFlags2::NONE
+            } else {
+                mask
+            },
+        };
+        return Some((src_stage, src_access, stage, mask, old_layout));
+    }
+    if state.read_stages.contains(stage) && state.read_access.contains(mask) {
+        return None;
+    }
+    let barrier = (!state.write_stage.is_empty()).then_some((
+        state.write_stage,
+        state.write_access,
+        stage,
+        mask,
+        old_layout,
+    ));
+    state.read_stages |= stage;
+    state.read_access |= mask;
+    barrier
+}
+
+/// A resource a pass binds, with what the pass does to it.
+pub enum Binding<'r> {
+    StorageBuffer {
+        binding: u32,
+        buffer: &'r Buffer,
+        write: bool,
+    },
+    UniformBuffer {
+        binding: u32,
+        buffer: &'r Buffer,
+    },
+    StorageImage {
+        binding: u32,
+        image: &'r Image,
+        write: bool,
+    },
+    SampledImage {
+        binding: u32,
+        image: &'r Image,
+        sampler: vk::Sampler,
+    },
+}
+
+impl<'r> Binding<'r> {
+    pub fn read(binding: u32, buffer: &'r Buffer) -> Self {
+        Binding::StorageBuffer {
+            binding,
+            buffer,
+            write: false,
+        }
+    }
+    pub fn write(binding: u32, buffer: &'r Buffer) -> Self {
+        Binding::StorageBuffer {
+            binding,
+            buffer,
+            write: true,
+        }
+    }
+    pub fn uniform(binding: u32, buffer: &'r Buffer) -> Self {
+        Binding::UniformBuffer { binding, buffer }
+    }
+    pub fn image_read(binding: u32, image: &'r Image) -> Self {
+        Binding::StorageImage {
+            binding,
+            image,
+            write: false,
+        }
+    }
+    pub fn image_write(binding: u32, image: &'r Image) -> Self {
+        Binding::StorageImage {
+            binding,
+            image,
+            write: true,
+        }
+    }
+    pub fn sampled(binding: u32, image: &'r Image, sampler: &super::Sampler) -> Self {
+        Binding::SampledImage {
+            binding,
+            image,
+            sampler: sampler.raw,
+        }
+    }
+
+    fn number(&self) -> u32 {
+        match self {
+            Binding::StorageBuffer { binding, .. }
+            | Binding::UniformBuffer { binding, .. }
+            | Binding::StorageImage { binding, .. }
+            | Binding::SampledImage { binding, .. } => *binding,
+        }
+    }
+
+    fn kind(&self) -> DescriptorKind {
+        match self {
+            Binding::StorageBuffer { .. } => DescriptorKind::StorageBuffer,
+            Binding::UniformBuffer { .. } => DescriptorKind::UniformBuffer,
+            Binding::StorageImage { .. } => DescriptorKind::StorageImage,
+            Binding::SampledImage { .. } => DescriptorKind::CombinedImageSampler,
+        }
+    }
+}
+
+/// A compute dispatch, declared in one expression.
+pub struct ComputePass<'p> {
+    pub name: &'p str,
+    pub pipeline: &'p ComputePipeline,
+    pub bindings: &'p [Binding<'p>],
+    pub push: &'p [u8],
+    /// Threads to run along x, y, z; the workgroup count is rounded up from these.
+    pub threads: [u32; 3],
+}
+
+/// A draw of `vertex_count` pulled vertices into colour and depth attachments, cleared first.
+pub struct RasterPass<'p> {
+    pub name: &'p str,
+    pub pipeline: &'p RasterPipeline,
+    pub bindings: &'p [Binding<'p>],
+    pub push: &'p [u8],
+    pub color: &'p [(&'p Image, [f32; 4])],
+    /// Depth attachment and the layer rendered into.
+    pub depth: Option<(&'p Image, u32)>,
+    pub vertex_count: u32,
+}
+
+enum Resource<'r> {
+    Buffer(&'r Buffer),
+    Image(&'r Image),
+}
+
+/// Records passes into one command buffer.
+pub struct Recorder<'a> {
+    gpu: &'a Gpu,
+    cmd: vk::CommandBuffer,
+    timer: Option<&'a mut FrameQueries>,
+}
+
+impl<'a> Recorder<'a> {
+    pub fn new(gpu: &'a Gpu, cmd: vk::CommandBuffer, timer: Option<&'a mut FrameQueries>) -> Self {
+        Recorder { gpu, cmd, timer }
+    }
+
+    pub fn command_buffer(&self) -> vk::CommandBuffer {
+        self.cmd
+    }
+
+    pub fn gpu(&self) -> &Gpu {
+        self.gpu
+    }
+
+    pub(crate) fn begin_scope(&mut self, name: &str) -> Option<u32> {
+        if let Some(utils) = &self.gpu.shared.debug_utils
+            && let Ok(label_name) = std::ffi::CString::new(name)
+        {
+            let label = vk::DebugUtilsLabelEXT::default().label_name(&label_name);
+            // SAFETY: recording into a command buffer in the recording state.
+            unsafe { utils.cmd_begin_debug_utils_label(self.cmd, &label) };
+        }
+        let device = &self.gpu.shared.device;
+        self.timer
+            .as_mut()
+            .and_then(|t| t.begin(device, self.cmd, name))
+    }
+
+    pub(crate) fn end_scope(&mut self, scope: Option<u32>) {
+        let device = &self.gpu.shared.device;
+        if let (Some(t), Some(scope)) = (self.timer.as_mut(), scope) {
+            t.end(device, self.cmd, scope);
+        }
+        if let Some(utils) = &self.gpu.shared.debug_utils {
+            // SAFETY: closes the label opened in begin_scope on the same command buffer.
+            unsafe { utils.cmd_end_debug_utils_label(self.cmd) };
+        }
+    }
+
+    /// Record the barriers that the accesses need, in one pipeline-barrier command.
+    fn sync(&mut self, accesses: &[(Resource, Access)]) {
+        let mut buffer_barriers = Vec::new();
+        let mut image_barriers = Vec::new();
+        for (resource, access) in accesses {
+            match resource {
+                Resource::Buffer(buffer) => {
+                    let mut state = buffer.sync.get();
+                    if let Some((ss, sa, ds, da, _)) = transition(&mut state, *access, false) {
+                        buffer_barriers.push(
+                            vk::BufferMemoryBarrier2::default()
+                                .src_stage_mask(ss)
+                                .src_access_mask(sa)
+                                .dst_stage_mask(ds)
+                                .dst_access_mask(da)
+                                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                                .buffer(buffer.raw)
+                                .offset(0)
+                                .size(vk::WHOLE_SIZE),
+                        );
+                    }
+                    buffer.sync.set(state);
+                }
+                Resource::Image(image) => {
+                    let mut state = image.sync.get();
+                    if let Some((ss, sa, ds, da, old)) = transition(&mut state, *access, true) {
+                        image_barriers.push(
+                            vk::ImageMemoryBarrier2::default()
+                                .src_stage_mask(ss)
+                                .src_access_mask(sa)
+                                .dst_stage_mask(ds)
+                                .dst_access_mask(da)
+                                .old_layout(old)
+                                .new_layout(state.layout)
+                                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                                .image(image.raw)
+                                .subresource_range(image.subresource_range()),
+                        );
+                    }
+                    image.sync.set(state);
+                }
+            }
+        }
+        if buffer_barriers.is_empty() && image_barriers.is_empty() {
+            return;
+        }
+        let dependency = vk::DependencyInfo::default()
+            .buffer_memory_barriers(&buffer_barriers)
+            .image_memory_barriers(&image_barriers);
+        // SAFETY: the barriers reference live resources; the command buffer is recording and
+        // not inside a render pass instance.
+        unsafe {
+            self.gpu
+                .shared
+                .device
+                .cmd_pipeline_barrier2(self.cmd, &dependency)
+        };
+    }
+
+    /// Make everything written so far visible to every later command, whatever it touches.
+    /// Used at the hand-over between independently recorded stages (e.g. before a readback).
+    pub fn full_barrier(&mut self) {
+        let barrier = vk::MemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            .src_access_mask(vk::AccessFlags2::MEMORY_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::ALL_COMMANDS)
+            .dst_access_mask(vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE);
+        let barriers = [barrier];
+        let dependency = vk::DependencyInfo::default().memory_barriers(&barriers);
+        // SAFETY: a plain memory barrier outside any render pass instance.
+        unsafe {
+            self.gpu
+                .shared
+                .device
+                .cmd_pipeline_barrier2(self.cmd, &dependency)
+        };
+    }
+
+    fn check_interface(
+        core: &PipelineCore,
+        pass: &str,
+        bindings: &[Binding],
+        push: &[u8],
+    ) -> GpuResult<()> {
+        let fail = |message: String| GpuError::Interface {
+            pass: pass.to_string(),
+            message,
+        };
+        for &(number, kind) in &core.interface.bindings {
+            match bindings.iter().find(|b| b.number() == number) {
+                None => {
+                    return Err(fail(format!(
+                        "the shader declares {} at binding {number}, but the pass binds nothing there",
+                        kind.name()
+                    )));
+                }
+                Some(b) if b.kind() != kind => {
+                    return Err(fail(format!(
+                        "binding {number} is a {} in the shader but the pass binds a {}",
+                        kind.name(),
+                        b.kind().name()
+                    )));
+                }
+                Some(_) => {}
+            }
+        }
+        for b in bindings {
+            let number = b.number();
+            if !core.interface.bindings.iter().any(|(n, _)| *n == number) {
+                return Err(fail(format!(
+                    "the pass binds a {} at binding {number}, which the shader does not use",
+                    b.kind().name()
+                )));
+            }
+            if bindings.iter().filter(|o| o.number() == number).count() > 1 {
+                return Err(fail(format!("binding {number} is bound twice")));
+            }
+        }
+        if push.len() as u32 != core.interface.push_constant_size {
+            return Err(fail(format!(
+                "push constants are {} bytes in Rust but {} bytes in the shader",
+                push.len(),
+                core.interface.push_constant_size
+            )));
+        }
+        Ok(())
+    }
+
+    fn binding_accesses<'r>(
+        bindings: &'r [Binding<'r>],
+        graphics: bool,
+    ) -> Vec<(Resource<'r>, Access)> {
+        let (read, write) = if graphics {
+            (Access::GraphicsRead, Access::GraphicsRead)
+        } else {
+            (Access::ComputeRead, Access::ComputeWrite)
+        };
+        bindings
+            .iter()
+            .map(|b| match b {
+                Binding::StorageBuffer {
+                    buffer, write: w, ..
+                } => (Resource::Buffer(buffer), if *w { write } else { read }),
+                Binding::UniformBuffer { buffer, .. } => (Resource::Buffer(buffer), read),
+                Binding::StorageImage {
+                    image, write: w, ..
+                } => (Resource::Image(image), if *w { write } else { read }),
+                Binding::SampledImage { image, .. } => {
+                    (Resource::Image(image), Access::ComputeSampled)
+                }
+            })
+            .collect()
+    }
+
+    fn bind(&self, core: &PipelineCore, bindings: &[Binding], push: &[u8]) {
+        let mut buffer_infos = Vec::with_capacity(bindings.len());
+        let mut image_infos = Vec::with_capacity(bindings.len());
+        for b in bindings {
+            match b {
+                Binding::StorageBuffer { buffer, .. } | Binding::UniformBuffer { buffer, .. } => {
+                    buffer_infos.push(vk::DescriptorBufferInfo {
+                        buffer: buffer.raw,
+                        offset: 0,
+                        range: vk::WHOLE_SIZE,
+                    })
+                }
+                Binding::StorageImage { image, .. } => image_infos.push(vk::DescriptorImageInfo {
+                    sampler: vk::Sampler::null(),
+                    image_view: image.view,
+                    image_layout: vk::ImageLayout::GENERAL,
+                }),
+                Binding::SampledImage { image, sampler, .. } => {
+                    image_infos.push(vk::DescriptorImageInfo {
+                        sampler: *sampler,
+                        image_view: image.view,
+                        image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    })
+                }
+            }
+        }
+        let (mut next_buffer, mut next_image) = (0, 0);
+        let writes: Vec<vk::WriteDescriptorSet> = bindings
+            .iter()
+            .map(|b| {
+                let write = vk::WriteDescriptorSet::default()
+                    .dst_binding(b.number())
+                    .descriptor_count(1);
+                match b {
+                    Binding::StorageBuffer { .. } | Binding::UniformBuffer { .. } => {
+                        let ty = if matches!(b, Binding::UniformBuffer { .. }) {
+                            vk::DescriptorType::UNIFORM_BUFFER
+                        } else {
+                            vk::DescriptorType::STORAGE_BUFFER
+                        };
+                        next_buffer += 1;
+                        write
+                            .descriptor_type(ty)
+                            .buffer_info(std::slice::from_ref(&buffer_infos[next_buffer - 1]))
+                    }
+                    Binding::StorageImage { .. } | Binding::SampledImage { .. } => {
+                        let ty = if matches!(b, Binding::StorageImage { .. }) {
+                            vk::DescriptorType::STORAGE_IMAGE
+                        } else {
+                            vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+                        };
+                        next_image += 1;
+                        write
+                            .descriptor_type(ty)
+                            .image_info(std::slice::from_ref(&image_infos[next_image - 1]))
+                    }
+                }
+            })
+            .collect();
+        let device = &self.gpu.shared.device;
+        // SAFETY: pipeline, layout and descriptors are alive; the interface check guaranteed
+        // that every write matches the set layout, and push fits the declared range.
+        unsafe {
+            device.cmd_bind_pipeline(self.cmd, core.bind_point, core.raw);
+            if !writes.is_empty() {
+                self.gpu.shared.push_descriptor.cmd_push_descriptor_set(
+                    self.cmd,
+                    core.bind_point,
+                    core.layout,
+                    0,
+                    &writes,
+                );
+            }
+            if !push.is_empty() {
+                device.cmd_push_constants(self.cmd, core.layout, core.stages, 0, push);
+            }
+        }
+    }
+
+    /// Record a compute pass.
+    pub fn compute(&mut self, pass: &ComputePass) -> GpuResult<()> {
+        let core = &pass.pipeline.core;
+        Self::check_interface(core, pass.name, pass.bindings, pass.push)?;
+        let local = pass.pipeline.local_size;
+        let groups = [0, 1, 2].map(|i| pass.threads[i].div_ceil(local[i]));
+        if groups.contains(&0) {
+            return Ok(());
+        }
+        let scope = self.begin_scope(pass.name);
+        self.sync(&Self::binding_accesses(pass.bindings, false));
+        self.bind(core, pass.bindings, pass.push);
+        // SAFETY: pipeline and descriptors are bound above; the group counts are non-zero.
+        unsafe {
+            self.gpu
+                .shared
+                .device
+                .cmd_dispatch(self.cmd, groups[0], groups[1], groups[2])
+        };
+        self.end_scope(scope);
+        Ok(())
+    }
+
+    /// Record a raster pass: clear the attachments, draw, end.
+    pub fn raster(&mut self, pass: &RasterPass) -> GpuResult<()> {
+        let core = &pass.pipeline.core;
+        Self::check_interface(core, pass.name, pass.bindings, pass.push)?;
+        let writes_storage = pass.bindings.iter().any(|b| {
+            matches!(
+                b,
+                Binding::StorageBuffer { write: true, .. }
+                    | Binding::StorageImage { write: true, .. }
+            )
+        });
+        if writes_storage {
+            return Err(GpuError::Interface {
+                pass: pass.name.to_string(),
+                message: "raster passes write attachments only, not storage resources".into(),
+            });
+        }
+        let extent = pass
+            .color
+            .first()
+            .map(|(img, _)| img.extent)
+            .or(pass.depth.map(|(img, _)| img.extent))
+            .ok_or_else(|| GpuError::Interface {
+                pass: pass.name.to_string(),
+                message: "a raster pass needs at least one attachment".into(),
+            })?;
+        let scope = self.begin_scope(pass.name);
+        let mut accesses = Self::binding_accesses(pass.bindings, true);
+        for (image, _) in pass.color {
+            accesses.push((Resource::Image(image), Access::ColorAttachment));
+        }
+        if let Some((image, _)) = pass.depth {
+            accesses.push((Resource::Image(image), Access::DepthAttachment));
+        }
+        self.sync(&accesses);
+
+        let color_attachments: Vec<vk::RenderingAttachmentInfo> = pass
+            .color
+            .iter()
+            .map(|(image, clear)| {
+                vk::RenderingAttachmentInfo::default()
+                    .image_view(image.view)
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue {
+                        color: vk::ClearColorValue { float32: *clear },
+                    })
+            })
+            .collect();
+        let depth_attachment = pass.depth.map(|(image, layer)| {
+            let view = image
+                .layer_views
+                .get(layer as usize)
+                .copied()
+                .unwrap_or(image.view);
+            vk::RenderingAttachmentInfo::default()
+                .image_view(view)
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::STORE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                })
+        });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D { x: 0, y: 0 },
+            extent: vk::Extent2D {
+                width: extent.width,
+                height: extent.height,
+            },
+        };
+        let mut rendering = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachments);
+        if let Some(depth) = depth_attachment.as_ref() {
+            rendering = rendering.depth_attachment(depth);
+        }
+        let device = &self.gpu.shared.device;
+        // SAFETY: attachments were transitioned to their attachment layouts by `sync`.
+        unsafe { device.cmd_begin_rendering(self.cmd, &rendering) };
+        self.bind(core, pass.bindings, pass.push);
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: extent.width as f32,
+            height: extent.height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: inside the rendering instance begun above, with the pipeline bound.
+        unsafe {
+            device.cmd_set_viewport(self.cmd, 0, &[viewport]);
+            device.cmd_set_scissor(self.cmd, 0, &[area]);
+            if pass.vertex_count > 0 {
+                device.cmd_draw(self.cmd, pass.vertex_count, 1, 0, 0);
+            }
+            device.cmd_end_rendering(self.cmd);
+        }
+        self.end_scope(scope);
+        Ok(())
+    }
+
+    /// Copy `size` bytes from the start of `src` to the start of `dst`.
+    pub fn copy_buffer(&mut self, name: &str, src: &Buffer, dst: &Buffer, size: u64) {
+        let scope = self.begin_scope(name);
+        self.sync(&[
+            (Resource::Buffer(src), Access::TransferRead),
+            (Resource::Buffer(dst), Access::TransferWrite),
+        ]);
+        let region = vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size,
+        };
+        if size > 0 {
+            // SAFETY: both buffers are alive and at least `size` bytes long.
+            unsafe {
+                self.gpu
+                    .shared
+                    .device
+                    .cmd_copy_buffer(self.cmd, src.raw, dst.raw, &[region])
+            };
+        }
+        self.end_scope(scope);
+    }
+
+    /// Fill a buffer with a repeated 32-bit value (0 clears it).
+    pub fn fill_buffer(&mut self, name: &str, buffer: &Buffer, value: u32) {
+        let scope = self.begin_scope(name);
+        self.sync(&[(Resource::Buffer(buffer), Access::TransferWrite)]);
+        // SAFETY: the buffer is alive and was created with TRANSFER_DST.
+        unsafe {
+            self.gpu
+                .shared
+                .device
+                .cmd_fill_buffer(self.cmd, buffer.raw, 0, vk::WHOLE_SIZE, value)
+        };
+        self.end_scope(scope);
+    }
+
+    /// Copy layer 0 of an image into a buffer, tightly packed.
+    pub fn copy_image_to_buffer(&mut self, name: &str, image: &Image, buffer: &Buffer) {
+        let scope = self.begin_scope(name);
+        self.sync(&[
+            (Resource::Image(image), Access::TransferRead),
+            (Resource::Buffer(buffer), Access::TransferWrite),
+        ]);
+        let region = vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: image.aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: 1,
+            },
+            image_offset: vk::Offset3D { x: 0, y: 0, z: 0 },
+            image_extent: image.extent,
+        };
+        // SAFETY: the image is in TRANSFER_SRC_OPTIMAL after `sync`; the buffer is large enough
+        // (callers size it from the image).
+        unsafe {
+            self.gpu.shared.device.cmd_copy_image_to_buffer(
+                self.cmd,
+                image.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                buffer.raw,
+                &[region],
+            )
+        };
+        self.end_scope(scope);
+    }
+
+    /// Make a buffer's device writes visible to the host once the submission's fence signals.
+    pub fn host_read(&mut self, buffer: &Buffer) {
+        self.sync(&[(Resource::Buffer(buffer), Access::HostRead)]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn read_after_write_needs_one_barrier_then_none() {
+        let mut s = SyncState::default();
+        let first = transition(&mut s, Access::ComputeWrite, false).unwrap();
+        assert!(first.0.is_empty(), "a fresh resource waits on nothing");
+        let raw = transition(&mut s, Access::ComputeRead, false).unwrap();
+        assert_eq!(raw.0, vk::PipelineStageFlags2::COMPUTE_SHADER);
+        assert!(raw.1.contains(vk::AccessFlags2::SHADER_STORAGE_WRITE));
+        assert!(transition(&mut s, Access::ComputeRead, false).is_none());
+    }
+
+    #[test]
+    fn write_after_read_waits_on_the_readers() {
+        let mut s = SyncState::default();
+        transition(&mut s, Access::TransferWrite, false);
+        transition(&mut s, Access::GraphicsRead, false);
+        let war = transition(&mut s, Access::ComputeWrite, false).unwrap();
+        assert!(war.0.contains(vk::PipelineStageFlags2::VERTEX_SHADER));
+        assert!(war.0.contains(vk::PipelineStageFlags2::COPY));
+    }
+
+    #[test]
+    fn image_layout_changes_always_get_a_barrier() {
+        let mut s = SyncState::default();
+        let t = transition(&mut s, Access::ColorAttachment, true).unwrap();
+        assert_eq!(t.4, vk::ImageLayout::UNDEFINED);
+        assert_eq!(s.layout, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+        let t = transition(&mut s, Access::ComputeRead, true).unwrap();
+        assert_eq!(t.4, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+        assert_eq!(s.layout, vk::ImageLayout::GENERAL);
+        // A second read stage after the transition still waits for the transition.
+        let t = transition(&mut s, Access::TransferRead, true).unwrap();
+        assert_eq!(t.4, vk::ImageLayout::GENERAL);
+    }
+
+    #[test]
+    fn a_new_reader_stage_waits_on_the_last_write() {
+        let mut s = SyncState::default();
+        transition(&mut s, Access::ComputeWrite, false);
+        transition(&mut s, Access::ComputeRead, false);
+        let t = transition(&mut s, Access::TransferRead, false).unwrap();
+        assert_eq!(t.0, vk::PipelineStageFlags2::COMPUTE_SHADER);
+        assert!(transition(&mut s, Access::TransferRead, false).is_none());
+    }
+}

@@ -1,0 +1,14 @@
+//! vkgi: real-time global illumination on raw Vulkan, measured against a reference path tracer.
+
+pub mod app;
+pub mod error;
+pub mod frame;
+pub mod gpu;
+pub mod imageio;
+pub mod scene;
+pub mod shader_shared;
+
+/// The SPIR-V of every shader under shaders-glsl/, compiled by build.rs.
+pub mod shaders {
+    include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
+}

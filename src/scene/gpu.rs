@@ -1,0 +1,173 @@
+//! The scene in GPU buffers, in the layouts the shaders declare (shaders-glsl/common/scene.glsl
+//! and lights.glsl): vertices, per-triangle materials, materials, lights, shadow views.
+
+use bytemuck::{Pod, Zeroable};
+use glam::camera::rh::{proj::vulkan, view::look_at_mat4};
+use glam::{Mat4, Vec3};
+
+use super::{LightKind, Scene};
+use crate::gpu::{Buffer, Gpu, GpuResult};
+use crate::shader_shared::{LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct GpuVertex {
+    pub position: [f32; 4],
+    pub normal: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub albedo: [f32; 4],
+    pub emission: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct GpuLight {
+    /// xyz position, w = kind (LIGHT_KIND_*).
+    pub position_kind: [f32; 4],
+    /// xyz unit axis, w = cos of the outer cone angle.
+    pub direction_cos_outer: [f32; 4],
+    /// rgb peak intensity (W/sr), w = cos of the inner cone angle.
+    pub intensity_cos_inner: [f32; 4],
+    /// x = first shadow view, y = shadow view count (1 for spot, 6 for point).
+    pub shadow: [u32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct GpuShadowView {
+    pub view_projection: [[f32; 4]; 4],
+    /// x = world-space size of a shadow texel per unit distance from the light.
+    pub params: [f32; 4],
+}
+
+/// Extra field of view around a spot cone, so the cone edge lies inside the shadow map.
+const SPOT_FOV_MARGIN_DEG: f32 = 4.0;
+
+/// One perspective view per spot light, six (cube faces) per point light.
+pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShadowView>) {
+    let (lo, hi) = scene.extended_bounds();
+    let extent = (hi - lo).length().max(1e-3);
+    let mut lights = Vec::new();
+    let mut views = Vec::new();
+    for light in &scene.lights {
+        let first = views.len() as u32;
+        let (cos_outer, cos_inner) = light.cone_cosines();
+        let far_for = |p: Vec3| {
+            let farthest = [lo.x, hi.x]
+                .iter()
+                .flat_map(|&x| [lo.y, hi.y].map(move |y| (x, y)))
+                .flat_map(|(x, y)| [lo.z, hi.z].map(move |z| Vec3::new(x, y, z)))
+                .map(|c| (c - p).length())
+                .fold(0.0f32, f32::max);
+            farthest * 1.01 + 1e-3
+        };
+        let far = far_for(light.position);
+        let near = (extent * 1e-3).min(far * 0.01);
+        let mut push_view = |dir: Vec3, up: Vec3, fov_deg: f32| {
+            let view = look_at_mat4(light.position, light.position + dir, up);
+            let proj = vulkan::perspective(fov_deg.to_radians(), 1.0, near, far);
+            let texel = 2.0 * (0.5 * fov_deg.to_radians()).tan() / map_size as f32;
+            views.push(GpuShadowView {
+                view_projection: (proj * view).to_cols_array_2d(),
+                params: [texel, near, far, 0.0],
+            });
+        };
+        let (kind, axis) = match light.kind {
+            LightKind::Spot {
+                direction,
+                cone_angle_deg,
+                ..
+            } => {
+                let axis = direction.normalize();
+                let up = if axis.y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
+                push_view(axis, up, 2.0 * cone_angle_deg + SPOT_FOV_MARGIN_DEG);
+                (LIGHT_KIND_SPOT, axis)
+            }
+            LightKind::Point => {
+                // Face order matches the major-axis selection in lights.glsl: +x -x +y -y +z -z.
+                let faces = [
+                    (Vec3::X, Vec3::NEG_Y),
+                    (Vec3::NEG_X, Vec3::NEG_Y),
+                    (Vec3::Y, Vec3::Z),
+                    (Vec3::NEG_Y, Vec3::NEG_Z),
+                    (Vec3::Z, Vec3::NEG_Y),
+                    (Vec3::NEG_Z, Vec3::NEG_Y),
+                ];
+                for (dir, up) in faces {
+                    push_view(dir, up, 90.0);
+                }
+                (LIGHT_KIND_POINT, Vec3::NEG_Y)
+            }
+        };
+        let intensity = light.intensity();
+        lights.push(GpuLight {
+            position_kind: [
+                light.position.x,
+                light.position.y,
+                light.position.z,
+                kind as f32,
+            ],
+            direction_cos_outer: [axis.x, axis.y, axis.z, cos_outer],
+            intensity_cos_inner: [intensity.x, intensity.y, intensity.z, cos_inner],
+            shadow: [first, views.len() as u32 - first, 0, 0],
+        });
+    }
+    (lights, views)
+}
+
+/// The scene's geometry and lights in storage buffers.
+pub struct SceneBuffers {
+    pub vertices: Buffer,
+    pub triangle_materials: Buffer,
+    pub materials: Buffer,
+    pub lights: Buffer,
+    pub shadow_views: Buffer,
+    pub vertex_count: u32,
+    pub light_count: u32,
+    /// Shadow views of every light, in order (the shadow pass renders one layer per view).
+    pub shadow_view_matrices: Vec<Mat4>,
+}
+
+impl SceneBuffers {
+    pub fn upload(gpu: &Gpu, scene: &Scene, shadow_map_size: u32) -> GpuResult<SceneBuffers> {
+        let mesh = &scene.mesh;
+        let vertices: Vec<GpuVertex> = mesh
+            .positions
+            .iter()
+            .zip(&mesh.normals)
+            .map(|(p, n)| GpuVertex {
+                position: p.extend(1.0).to_array(),
+                normal: n.extend(0.0).to_array(),
+            })
+            .collect();
+        let materials: Vec<GpuMaterial> = scene
+            .materials
+            .iter()
+            .map(|m| GpuMaterial {
+                albedo: m.albedo.extend(0.0).to_array(),
+                emission: m.emission.extend(0.0).to_array(),
+            })
+            .collect();
+        let (lights, views) = shadow_views(scene, shadow_map_size);
+        Ok(SceneBuffers {
+            vertices: gpu.upload_storage("scene vertices", bytemuck::cast_slice(&vertices))?,
+            triangle_materials: gpu.upload_storage(
+                "scene triangle materials",
+                bytemuck::cast_slice(&mesh.materials),
+            )?,
+            materials: gpu.upload_storage("scene materials", bytemuck::cast_slice(&materials))?,
+            lights: gpu.upload_storage("scene lights", bytemuck::cast_slice(&lights))?,
+            shadow_views: gpu.upload_storage("shadow views", bytemuck::cast_slice(&views))?,
+            vertex_count: vertices.len() as u32,
+            light_count: lights.len() as u32,
+            shadow_view_matrices: views
+                .iter()
+                .map(|v| Mat4::from_cols_array_2d(&v.view_projection))
+                .collect(),
+        })
+    }
+}

@@ -1,0 +1,44 @@
+//! Constants shared by Rust and GLSL: binding numbers, workgroup sizes and limits live here and
+//! nowhere else. build.rs hands each one to shaderc as a `#define` of the same name, so a shader
+//! writes `layout(binding = LIGHTING_GBUFFER_POSITION)` and Rust binds `LIGHTING_GBUFFER_POSITION`.
+
+macro_rules! shared_constants {
+    ($($(#[$doc:meta])* $name:ident: $ty:ty = $value:literal;)*) => {
+        $($(#[$doc])* pub const $name: $ty = $value;)*
+        /// Every constant as (name, GLSL literal), for the shader compiler.
+        pub const GLSL_DEFINES: &[(&str, &str)] = &[$((stringify!($name), stringify!($value))),*];
+    };
+}
+
+shared_constants! {
+    // ---- scene buffers, bound by every pass that reads geometry ----
+    /// Workgroup edge of 2D image passes (lighting, tone mapping): 8x8 threads.
+    IMAGE_WORKGROUP: u32 = 8;
+    /// Workgroup size of 1D passes.
+    LINEAR_WORKGROUP: u32 = 64;
+
+    // ---- shadow and G-buffer rasterisation (vertex pulling) ----
+    RASTER_VERTICES: u32 = 0;
+    RASTER_TRIANGLE_MATERIALS: u32 = 1;
+    RASTER_MATERIALS: u32 = 2;
+
+    // ---- deferred direct lighting ----
+    LIGHTING_GBUFFER_POSITION: u32 = 0;
+    LIGHTING_GBUFFER_NORMAL: u32 = 1;
+    LIGHTING_GBUFFER_ALBEDO: u32 = 2;
+    LIGHTING_GBUFFER_EMISSION: u32 = 3;
+    LIGHTING_SHADOW_MAP: u32 = 4;
+    LIGHTING_LIGHTS: u32 = 5;
+    LIGHTING_SHADOW_VIEWS: u32 = 6;
+    LIGHTING_HDR_OUT: u32 = 7;
+
+    // ---- tone mapping ----
+    TONEMAP_HDR_IN: u32 = 0;
+    TONEMAP_LDR_OUT: u32 = 1;
+
+    // ---- lights ----
+    LIGHT_KIND_SPOT: u32 = 0;
+    LIGHT_KIND_POINT: u32 = 1;
+    /// Shadow-map texels a PCF footprint spans on each side of its centre.
+    SHADOW_PCF_RADIUS: i32 = 1;
+}
