@@ -96,6 +96,13 @@ impl FrameRing {
         (slot, self.slots[slot].fence)
     }
 
+    /// The slot and fence of the frame submitted last (None before the first frame).
+    pub fn last_submitted(&self) -> Option<(usize, vk::Fence)> {
+        let previous = self.frame.checked_sub(1)?;
+        let slot = (previous % self.slots.len() as u64) as usize;
+        Some((slot, self.slots[slot].fence))
+    }
+
     /// Record and submit one frame. Waits only for the frame that last used this slot (the
     /// CPU-GPU throttle), then collects its timestamps, which are complete by then.
     pub fn submit_frame<F>(

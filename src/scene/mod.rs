@@ -5,6 +5,7 @@ pub mod builtin;
 pub mod camera;
 pub mod file;
 pub mod gpu;
+pub mod intersect;
 pub mod light;
 pub mod obj;
 

@@ -149,13 +149,13 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
             mesh.materials.push(material);
         }
     }
-    if skipped > 0 {
-        log::warn!("{name}: skipped {skipped} zero-area triangle(s)");
-    }
     if mesh.triangle_count() == 0 {
         return Err(InputError::new(format!(
             "{name}: the mesh is empty (no triangles with non-zero area)"
         )));
+    }
+    if skipped > 0 {
+        log::warn!("{name}: skipped {skipped} zero-area triangle(s)");
     }
     if uses_default {
         materials.push(Material {
