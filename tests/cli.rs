@@ -50,20 +50,38 @@ const TRIANGLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 #[test]
 fn missing_files_are_reported() {
     assert_bad_input(&render_scene("/nonexistent/mesh.obj"), "no such file");
-    assert_bad_input(&render_scene("/nonexistent/scene.toml"), "cannot read scene file");
+    assert_bad_input(
+        &render_scene("/nonexistent/scene.toml"),
+        "cannot read scene file",
+    );
     assert_bad_input(&render_scene("nonsense"), "unknown scene");
 }
 
 #[test]
 fn malformed_obj_mtl_and_toml_are_reported() {
     let dir = scratch("malformed");
-    assert_bad_input(&render_scene(&write(&dir, "a.obj", "v 0 0 zero\nf 1 2 3\n")), "malformed OBJ");
+    assert_bad_input(
+        &render_scene(&write(&dir, "a.obj", "v 0 0 zero\nf 1 2 3\n")),
+        "malformed OBJ",
+    );
     write(&dir, "b.mtl", "newmtl m\nKd 0.5 oops\n");
-    let obj = write(&dir, "b.obj", &format!("mtllib b.mtl\nusemtl m\n{TRIANGLE}"));
+    let obj = write(
+        &dir,
+        "b.obj",
+        &format!("mtllib b.mtl\nusemtl m\n{TRIANGLE}"),
+    );
     assert_bad_input(&render_scene(&obj), "material");
-    let missing_mtl = write(&dir, "c.obj", &format!("mtllib missing.mtl\nusemtl m\n{TRIANGLE}"));
+    let missing_mtl = write(
+        &dir,
+        "c.obj",
+        &format!("mtllib missing.mtl\nusemtl m\n{TRIANGLE}"),
+    );
     assert_bad_input(&render_scene(&missing_mtl), "material");
-    let toml = write(&dir, "d.toml", "mesh = \"b.obj\"\n[camera\nposition = [0, 0, 1]\n");
+    let toml = write(
+        &dir,
+        "d.toml",
+        "mesh = \"b.obj\"\n[camera\nposition = [0, 0, 1]\n",
+    );
     assert_bad_input(&render_scene(&toml), "malformed scene file");
     let bad_value = write(&dir, "e.toml", "mesh = \"b.obj\"\nscale = \"big\"\n");
     assert_bad_input(&render_scene(&bad_value), "malformed scene file");
@@ -72,18 +90,54 @@ fn malformed_obj_mtl_and_toml_are_reported() {
 #[test]
 fn non_finite_and_empty_meshes_are_reported() {
     let dir = scratch("geometry");
-    assert_bad_input(&render_scene(&write(&dir, "nan.obj", "v 0 0 0\nv NaN 0 0\nv 0 1 0\nf 1 2 3\n")), "non-finite");
-    assert_bad_input(&render_scene(&write(&dir, "inf.obj", "v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n")), "non-finite");
-    assert_bad_input(&render_scene(&write(&dir, "empty.obj", "# no faces\nv 0 0 0\n")), "empty");
-    assert_bad_input(&render_scene(&write(&dir, "flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")), "empty");
+    assert_bad_input(
+        &render_scene(&write(
+            &dir,
+            "nan.obj",
+            "v 0 0 0\nv NaN 0 0\nv 0 1 0\nf 1 2 3\n",
+        )),
+        "non-finite",
+    );
+    assert_bad_input(
+        &render_scene(&write(
+            &dir,
+            "inf.obj",
+            "v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n",
+        )),
+        "non-finite",
+    );
+    assert_bad_input(
+        &render_scene(&write(&dir, "empty.obj", "# no faces\nv 0 0 0\n")),
+        "empty",
+    );
+    assert_bad_input(
+        &render_scene(&write(
+            &dir,
+            "flat.obj",
+            "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n",
+        )),
+        "empty",
+    );
 }
 
 #[test]
 fn zero_area_triangles_are_skipped_with_a_warning() {
     let dir = scratch("degenerate");
-    let obj = write(&dir, "mixed.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n");
+    let obj = write(
+        &dir,
+        "mixed.obj",
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n",
+    );
     let out = dir.join("mixed.png");
-    let output = vkgi(&["render", "--scene", &obj, "--size", "32x24", "--out", out.to_str().unwrap()]);
+    let output = vkgi(&[
+        "render",
+        "--scene",
+        &obj,
+        "--size",
+        "32x24",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(stderr.contains("skipped 1 zero-area triangle"), "{stderr}");
@@ -102,17 +156,30 @@ fn a_scene_without_light_is_reported() {
         "mesh = \"tri.obj\"\n[[light]]\ntype = \"spot\"\nposition = [0,0,1]\ndirection = [0,0,-1]\ncone_angle = 0\npenumbra = 0\nflux = 1\n",
     );
     assert_bad_input(&render_scene(&zero_cone), "cone_angle");
-    let nan_flux = write(&dir, "flux.toml", "mesh = \"tri.obj\"\n[[light]]\ntype = \"point\"\nposition = [0,0,1]\nflux = nan\n");
+    let nan_flux = write(
+        &dir,
+        "flux.toml",
+        "mesh = \"tri.obj\"\n[[light]]\ntype = \"point\"\nposition = [0,0,1]\nflux = nan\n",
+    );
     assert_bad_input(&render_scene(&nan_flux), "flux");
 }
 
 #[test]
 fn absurd_sizes_and_settings_are_reported() {
     assert_bad_input(&vkgi(&["render", "--size", "0x0"]), "out of range");
-    assert_bad_input(&vkgi(&["render", "--size", "100000x100000"]), "out of range");
+    assert_bad_input(
+        &vkgi(&["render", "--size", "100000x100000"]),
+        "out of range",
+    );
     assert_bad_input(&vkgi(&["render", "--size", "big"]), "WIDTHxHEIGHT");
-    assert_bad_input(&vkgi(&["render", "--size", "32x24", "--shadow-map", "0"]), "shadow map");
-    assert_bad_input(&vkgi(&["render", "--size", "32x24", "--frames", "0"]), "frames");
+    assert_bad_input(
+        &vkgi(&["render", "--size", "32x24", "--shadow-map", "0"]),
+        "shadow map",
+    );
+    assert_bad_input(
+        &vkgi(&["render", "--size", "32x24", "--frames", "0"]),
+        "frames",
+    );
     assert_bad_input(&vkgi(&["render", "--no-such-flag"]), "no-such-flag");
 }
 
@@ -124,22 +191,50 @@ fn outputs_are_written_whole_or_not_at_all() {
     let json = dir.join("p.json");
     let trace = dir.join("t.json");
     let output = vkgi(&[
-        "render", "--scene", "cornell", "--size", "48x36", "--out", png.to_str().unwrap(), "--hdr",
-        exr.to_str().unwrap(), "--profile", "--frames", "3", "--profile-json", json.to_str().unwrap(),
-        "--trace", trace.to_str().unwrap(),
+        "render",
+        "--scene",
+        "cornell",
+        "--size",
+        "48x36",
+        "--out",
+        png.to_str().unwrap(),
+        "--hdr",
+        exr.to_str().unwrap(),
+        "--profile",
+        "--frames",
+        "3",
+        "--profile-json",
+        json.to_str().unwrap(),
+        "--trace",
+        trace.to_str().unwrap(),
     ]);
     let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
-    for pass in ["shadow map", "g-buffer", "direct lighting", "tone map", "frame"] {
-        assert!(stdout.contains(pass), "profile table lacks '{pass}':\n{stdout}");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    for pass in [
+        "shadow map",
+        "g-buffer",
+        "direct lighting",
+        "tone map",
+        "frame",
+    ] {
+        assert!(
+            stdout.contains(pass),
+            "profile table lacks '{pass}':\n{stdout}"
+        );
     }
     let decoded = image::open(&png).unwrap();
     assert_eq!((decoded.width(), decoded.height()), (48, 36));
     let hdr = vkgi::imageio::read_hdr(&exr).unwrap();
     assert_eq!((hdr.width, hdr.height), (48, 36));
-    let profile: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let profile: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
     assert_eq!(profile["frames"], 3);
-    let events: serde_json::Value = serde_json::from_slice(&std::fs::read(&trace).unwrap()).unwrap();
+    let events: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&trace).unwrap()).unwrap();
     assert!(!events["traceEvents"].as_array().unwrap().is_empty());
     let leftovers: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -149,5 +244,14 @@ fn outputs_are_written_whole_or_not_at_all() {
     assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
     // A folder that does not exist: an error, and no file anywhere.
     let missing = dir.join("no-such-folder").join("c.png");
-    assert_bad_input(&vkgi(&["render", "--size", "32x24", "--out", missing.to_str().unwrap()]), "does not exist");
+    assert_bad_input(
+        &vkgi(&[
+            "render",
+            "--size",
+            "32x24",
+            "--out",
+            missing.to_str().unwrap(),
+        ]),
+        "does not exist",
+    );
 }

@@ -32,7 +32,8 @@ fn every_recorded_pass_gets_one_positive_time_per_frame() {
     let frame = small_frame(&gpu);
     let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
     for _ in 0..5 {
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec)).unwrap();
+        ring.submit_frame(&gpu, &[], |rec| frame.record(rec))
+            .unwrap();
     }
     ring.finish().unwrap();
     common::assert_no_validation_errors(&gpu);
@@ -43,15 +44,27 @@ fn every_recorded_pass_gets_one_positive_time_per_frame() {
     for pass in &report.passes {
         assert_eq!(pass.samples, 5, "{}: one sample per frame", pass.name);
         assert_eq!(pass.per_frame_ns.len(), 5);
-        assert!(pass.per_frame_ns.iter().all(|&t| t > 0.0), "{}: {:?}", pass.name, pass.per_frame_ns);
+        assert!(
+            pass.per_frame_ns.iter().all(|&t| t > 0.0),
+            "{}: {:?}",
+            pass.name,
+            pass.per_frame_ns
+        );
         assert!(pass.min_ns <= pass.median_ns && pass.median_ns <= pass.max_ns);
     }
     let frame_total = report.frame.as_ref().expect("a frame scope");
     let passes_sum: f64 = report.passes.iter().map(|p| p.avg_ns).sum();
-    assert!(passes_sum <= frame_total.avg_ns * 1.001, "passes {passes_sum} > frame {}", frame_total.avg_ns);
+    assert!(
+        passes_sum <= frame_total.avg_ns * 1.001,
+        "passes {passes_sum} > frame {}",
+        frame_total.avg_ns
+    );
     assert!(report.table().contains("direct lighting"));
     let trace = ring.profiler.chrome_trace();
-    assert_eq!(trace["traceEvents"].as_array().unwrap().len(), 5 * (PASSES.len() + 1));
+    assert_eq!(
+        trace["traceEvents"].as_array().unwrap().len(),
+        5 * (PASSES.len() + 1)
+    );
 }
 
 #[test]
@@ -60,7 +73,8 @@ fn reading_every_frame_for_100_frames_collects_them_all() {
     let frame = small_frame(&gpu);
     let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
     for n in 0..100u64 {
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec)).unwrap();
+        ring.submit_frame(&gpu, &[], |rec| frame.record(rec))
+            .unwrap();
         // Each submission reads the slot it reuses: all frames but the last two are in.
         assert_eq!(ring.profiler.frames_collected(), n.saturating_sub(1));
     }
@@ -86,10 +100,14 @@ fn collecting_an_unfinished_frame_returns_at_once_instead_of_waiting() {
         value: 1,
         stage: vk::PipelineStageFlags2::ALL_COMMANDS,
     };
-    ring.submit_frame(&gpu, &[wait], |rec| frame.record(rec)).unwrap();
+    ring.submit_frame(&gpu, &[wait], |rec| frame.record(rec))
+        .unwrap();
     let (slot, fence) = ring.last_submitted().unwrap();
     for _ in 0..3 {
-        assert!(!ring.profiler.collect_if_ready(slot, fence).unwrap(), "the frame cannot have run yet");
+        assert!(
+            !ring.profiler.collect_if_ready(slot, fence).unwrap(),
+            "the frame cannot have run yet"
+        );
     }
     assert_eq!(ring.profiler.frames_collected(), 0);
     gate.signal(1).unwrap();
@@ -114,12 +132,18 @@ fn a_pass_whose_bindings_disagree_with_its_shader_fails_naming_the_pass() {
             name: "mis-bound tone map",
             pipeline: &pipeline,
             // Binding 1 (the output image) is missing, and the push constants are absent.
-            bindings: &[Binding::image_read(vkgi::shader_shared::TONEMAP_HDR_IN, &frame.hdr)],
+            bindings: &[Binding::image_read(
+                vkgi::shader_shared::TONEMAP_HDR_IN,
+                &frame.hdr,
+            )],
             push: &[],
             threads: [32, 24, 1],
         })
     });
     let message = result.unwrap_err().to_string();
-    assert!(message.contains("mis-bound tone map") && message.contains("binding 1"), "{message}");
+    assert!(
+        message.contains("mis-bound tone map") && message.contains("binding 1"),
+        "{message}"
+    );
     common::assert_no_validation_errors(&gpu);
 }

@@ -11,8 +11,14 @@ const H: u32 = 120;
 
 /// The pixel a world point lands on (must be in the image).
 fn pixel_of(scene: &Scene, p: Vec3) -> (u32, u32) {
-    let px = scene.camera.project(p, W, H).expect("point in front of the camera");
-    assert!(px.x >= 0.0 && px.y >= 0.0 && px.x < W as f32 && px.y < H as f32, "{p} off-screen");
+    let px = scene
+        .camera
+        .project(p, W, H)
+        .expect("point in front of the camera");
+    assert!(
+        px.x >= 0.0 && px.y >= 0.0 && px.x < W as f32 && px.y < H as f32,
+        "{p} off-screen"
+    );
     (px.x as u32, px.y as u32)
 }
 
@@ -21,7 +27,9 @@ fn surface_at(scene: &Scene, x: u32, y: u32) -> Option<(Vec3, usize)> {
     let dir = scene
         .camera
         .ray_direction(Vec2::new(x as f32 + 0.5, y as f32 + 0.5), W, H);
-    let hit = scene.mesh.intersect(scene.camera.position, dir, 1e-4, 1e9)?;
+    let hit = scene
+        .mesh
+        .intersect(scene.camera.position, dir, 1e-4, 1e9)?;
     Some((scene.camera.position + dir * hit.t, hit.triangle))
 }
 
@@ -41,7 +49,9 @@ fn cornell_walls_have_their_colours_and_the_floor_is_lit() {
     let (mut red, mut green) = (Vec::new(), Vec::new());
     for y in 0..H {
         for x in 0..W {
-            let Some((p, tri)) = surface_at(&scene, x, y) else { continue };
+            let Some((p, tri)) = surface_at(&scene, x, y) else {
+                continue;
+            };
             let lit = scene.mesh.visible(p, light.position, 1e-3)
                 && light.profile((p - light.position).normalize()) > 0.5;
             if !lit {
@@ -55,19 +65,33 @@ fn cornell_walls_have_their_colours_and_the_floor_is_lit() {
             }
         }
     }
-    assert!(red.len() > 20 && green.len() > 20, "{} red and {} green lit pixels", red.len(), green.len());
+    assert!(
+        red.len() > 20 && green.len() > 20,
+        "{} red and {} green lit pixels",
+        red.len(),
+        green.len()
+    );
     for &(x, c) in &red {
-        assert!(x < W / 2 && c[0] > 3.0 * c[1] && c[0] > 3.0 * c[2], "red wall pixel at x={x}: {c:?}");
+        assert!(
+            x < W / 2 && c[0] > 3.0 * c[1] && c[0] > 3.0 * c[2],
+            "red wall pixel at x={x}: {c:?}"
+        );
     }
     for &(x, c) in &green {
-        assert!(x > W / 2 && c[1] > 2.0 * c[0] && c[1] > 2.0 * c[2], "green wall pixel at x={x}: {c:?}");
+        assert!(
+            x > W / 2 && c[1] > 2.0 * c[0] && c[1] > 2.0 * c[2],
+            "green wall pixel at x={x}: {c:?}"
+        );
     }
     // The floor right below the light (beside the short block) is lit as the spot predicts.
     let below = Vec3::new(light.position.x + 0.02, 0.0, light.position.z);
     let (x, y) = pixel_of(&scene, below);
     let expected = light.irradiance_at(below, Vec3::Y).x * 0.725 / std::f32::consts::PI;
     let seen = hdr[(y * W + x) as usize][0];
-    assert!((seen / expected - 1.0).abs() < 0.05, "floor under the light {seen}, expected ~{expected}");
+    assert!(
+        (seen / expected - 1.0).abs() < 0.05,
+        "floor under the light {seen}, expected ~{expected}"
+    );
 }
 
 #[test]
@@ -83,27 +107,46 @@ fn the_blocks_cast_shadows_on_the_floor() {
     // neighbourhood agrees (away from soft shadow-map edges).
     for y in 0..H {
         for x in 0..W {
-            let Some((p, tri)) = surface_at(&scene, x, y) else { continue };
-            if material_name(&scene, tri) != "white" || scene.mesh.face_normal(tri).y.abs() < 0.99 || p.y > 1e-3 {
+            let Some((p, tri)) = surface_at(&scene, x, y) else {
+                continue;
+            };
+            if material_name(&scene, tri) != "white"
+                || scene.mesh.face_normal(tri).y.abs() < 0.99
+                || p.y > 1e-3
+            {
                 continue;
             }
             let lit = |q: Vec3| scene.mesh.visible(q + Vec3::Y * 1e-4, light, 1e-4);
-            let around = [Vec3::ZERO, Vec3::X * 0.02, Vec3::X * -0.02, Vec3::Z * 0.02, Vec3::Z * -0.02];
+            let around = [
+                Vec3::ZERO,
+                Vec3::X * 0.02,
+                Vec3::X * -0.02,
+                Vec3::Z * 0.02,
+                Vec3::Z * -0.02,
+            ];
             let states: Vec<bool> = around.iter().map(|&o| lit(p + o)).collect();
             let irradiance = scene.lights[0].irradiance_at(p, Vec3::Y).x;
             let lum = common::luminance(hdr[(y * W + x) as usize]);
-            if states.iter().all(|&s| !s) && scene.lights[0].profile((p - light).normalize()) > 0.99 {
+            if states.iter().all(|&s| !s) && scene.lights[0].profile((p - light).normalize()) > 0.99
+            {
                 shadowed.push(lum);
             } else if states.iter().all(|&s| s) && irradiance > 0.0 {
                 open.push(lum);
             }
         }
     }
-    assert!(shadowed.len() >= 10, "too few shadowed floor pixels ({}) to test", shadowed.len());
+    assert!(
+        shadowed.len() >= 10,
+        "too few shadowed floor pixels ({}) to test",
+        shadowed.len()
+    );
     assert!(open.len() >= 10);
     let mean = |v: &[f32]| v.iter().sum::<f32>() / v.len() as f32;
     let (dark, bright) = (mean(&shadowed), mean(&open));
-    assert!(dark < 0.05 * bright, "shadowed floor {dark} vs open floor {bright}");
+    assert!(
+        dark < 0.05 * bright,
+        "shadowed floor {dark} vs open floor {bright}"
+    );
 }
 
 /// Radiance of a Lambertian floor is albedo/π · E; E from the spot's profile, 1/r² and cosine.
@@ -114,18 +157,35 @@ fn direct_irradiance_matches_the_analytic_spot_light_within_two_percent() {
     let (_, hdr) = common::render(&gpu, &scene, W, H);
     common::assert_no_validation_errors(&gpu);
     let light = scene.lights[0];
-    let white = scene.materials.iter().find(|m| m.name == "white").unwrap().albedo;
+    let white = scene
+        .materials
+        .iter()
+        .find(|m| m.name == "white")
+        .unwrap()
+        .albedo;
     let mut checked = 0;
     let mut worst = 0.0f32;
     for y in (0..H).step_by(3) {
         for x in (0..W).step_by(3) {
-            let Some((p, tri)) = surface_at(&scene, x, y) else { continue };
+            let Some((p, tri)) = surface_at(&scene, x, y) else {
+                continue;
+            };
             if material_name(&scene, tri) != "white" || p.y > 1e-3 {
                 continue;
             }
             // Fully lit (away from shadow edges) and well inside the cone.
-            let around = [Vec3::ZERO, Vec3::X * 0.03, Vec3::X * -0.03, Vec3::Z * 0.03, Vec3::Z * -0.03];
-            if !around.iter().all(|&o| scene.mesh.visible(p + o + Vec3::Y * 1e-4, light.position, 1e-4)) {
+            let around = [
+                Vec3::ZERO,
+                Vec3::X * 0.03,
+                Vec3::X * -0.03,
+                Vec3::Z * 0.03,
+                Vec3::Z * -0.03,
+            ];
+            if !around.iter().all(|&o| {
+                scene
+                    .mesh
+                    .visible(p + o + Vec3::Y * 1e-4, light.position, 1e-4)
+            }) {
                 continue;
             }
             let expected = light.irradiance_at(p, Vec3::Y);
@@ -137,13 +197,20 @@ fn direct_irradiance_matches_the_analytic_spot_light_within_two_percent() {
                 let measured = std::f32::consts::PI * pixel[c] / white[c];
                 let error = (measured / expected[c] - 1.0).abs();
                 worst = worst.max(error);
-                assert!(error < 0.02, "pixel ({x},{y}) channel {c}: E = {measured}, analytic {}", expected[c]);
+                assert!(
+                    error < 0.02,
+                    "pixel ({x},{y}) channel {c}: E = {measured}, analytic {}",
+                    expected[c]
+                );
             }
             checked += 1;
         }
     }
     assert!(checked >= 50, "only {checked} floor pixels checked");
-    eprintln!("{checked} floor pixels, worst relative irradiance error {:.3}%", 100.0 * worst);
+    eprintln!(
+        "{checked} floor pixels, worst relative irradiance error {:.3}%",
+        100.0 * worst
+    );
 }
 
 #[test]
@@ -153,5 +220,9 @@ fn two_rooms_scene_renders_its_lit_room() {
     let (_, hdr) = common::render(&gpu, &scene, 96, 64);
     common::assert_no_validation_errors(&gpu);
     let bright = hdr.iter().filter(|p| common::luminance(**p) > 0.05).count();
-    assert!(bright > hdr.len() / 4, "room A should be mostly lit ({bright} of {} pixels)", hdr.len());
+    assert!(
+        bright > hdr.len() / 4,
+        "room A should be mostly lit ({bright} of {} pixels)",
+        hdr.len()
+    );
 }

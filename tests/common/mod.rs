@@ -18,7 +18,10 @@ pub fn gpu() -> Gpu {
 /// Fail the test if the validation layers reported anything.
 pub fn assert_no_validation_errors(gpu: &Gpu) {
     let errors = gpu.validation_errors();
-    let first = gpu.validation_log().map(|l| l.first_errors()).unwrap_or_default();
+    let first = gpu
+        .validation_log()
+        .map(|l| l.first_errors())
+        .unwrap_or_default();
     assert_eq!(errors, 0, "validation errors: {first:#?}");
 }
 
@@ -35,7 +38,8 @@ pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Frame, Vec<
     )
     .expect("frame");
     let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("frame ring");
-    ring.submit_frame(gpu, &[], |rec| frame.record(rec)).expect("frame");
+    ring.submit_frame(gpu, &[], |rec| frame.record(rec))
+        .expect("frame");
     ring.finish().expect("finish");
     let hdr = frame.read_hdr(gpu).expect("readback");
     (frame, hdr)
