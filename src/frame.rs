@@ -136,7 +136,7 @@ impl Frame {
         let gbuffer_formats = [
             vk::Format::R32G32B32A32_SFLOAT,
             vk::Format::R16G16B16A16_SFLOAT,
-            vk::Format::R8G8B8A8_UNORM,
+            vk::Format::R16G16B16A16_SFLOAT,
             vk::Format::R16G16B16A16_SFLOAT,
         ];
         let gbuffer_pipeline = RasterPipeline::new(

@@ -5,6 +5,8 @@ pub mod error;
 pub mod frame;
 pub mod gpu;
 pub mod imageio;
+pub mod metrics;
+pub mod reference;
 pub mod scene;
 pub mod shader_shared;
 

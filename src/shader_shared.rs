@@ -36,6 +36,20 @@ shared_constants! {
     TONEMAP_HDR_IN: u32 = 0;
     TONEMAP_LDR_OUT: u32 = 1;
 
+    // ---- reference path tracer ----
+    REFERENCE_VERTICES: u32 = 0;
+    REFERENCE_TRIANGLE_MATERIALS: u32 = 1;
+    REFERENCE_MATERIALS: u32 = 2;
+    REFERENCE_LIGHTS: u32 = 3;
+    REFERENCE_BVH_NODES: u32 = 4;
+    REFERENCE_BVH_TRIANGLES: u32 = 5;
+    REFERENCE_DIRECT_SUM: u32 = 6;
+    REFERENCE_INDIRECT_SUM: u32 = 7;
+    /// `max_bounces` value meaning "no limit" (paths end by Russian roulette).
+    REFERENCE_UNLIMITED_BOUNCES: u32 = 0xFFFFFFFF;
+    /// Hard cap on path length, even without a bounce limit.
+    REFERENCE_MAX_DEPTH: u32 = 1024;
+
     // ---- lights ----
     LIGHT_KIND_SPOT: u32 = 0;
     LIGHT_KIND_POINT: u32 = 1;

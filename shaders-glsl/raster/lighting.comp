@@ -8,7 +8,7 @@ layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
 layout(binding = LIGHTING_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
 layout(binding = LIGHTING_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
-layout(binding = LIGHTING_GBUFFER_ALBEDO, rgba8) readonly uniform image2D gbuffer_albedo;
+layout(binding = LIGHTING_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
 layout(binding = LIGHTING_GBUFFER_EMISSION, rgba16f) readonly uniform image2D gbuffer_emission;
 layout(binding = LIGHTING_SHADOW_MAP) uniform sampler2DArray shadow_map;
 layout(binding = LIGHTING_LIGHTS, std430) readonly buffer Lights { Light lights[]; };

@@ -26,6 +26,10 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to PNG and/or OpenEXR, optionally profiling every pass.
     Render(RenderArgs),
+    /// Path-trace the ground-truth image of a scene (linear OpenEXR, settings beside it).
+    Reference(ReferenceArgs),
+    /// Error metrics (RMSE, relMSE, MAE, FLIP) of a linear HDR image against a reference.
+    Compare(CompareArgs),
 }
 
 /// Which GPU, and whether to validate.
@@ -114,6 +118,59 @@ pub struct RenderArgs {
     pub profile: ProfileArgs,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ReferenceArgs {
+    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Samples per pixel.
+    #[arg(long, default_value_t = 1024)]
+    pub spp: u32,
+    /// Indirect bounces: 0 = direct light only, 1 = direct + one bounce, 'inf' = unlimited.
+    #[arg(long, default_value = "1", value_parser = crate::reference::Bounces::parse)]
+    pub bounces: crate::reference::Bounces,
+    /// Linear radiance as 32-bit float OpenEXR; the settings go to FILE.json beside it.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Also write a tone-mapped PNG.
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
+    /// Seed of the random numbers (the image is deterministic for a seed).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// Also write the direct and indirect parts (FILE stem + .direct.exr / .indirect.exr).
+    #[arg(long)]
+    pub split: bool,
+    /// Skip rendering when FILE.json shows a split reference of the same scene, settings and code.
+    #[arg(long)]
+    pub reuse: bool,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x480", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Exposure in stops for the PNG.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub exposure: f32,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct CompareArgs {
+    /// The image to score (linear OpenEXR).
+    pub test: PathBuf,
+    /// The reference it is scored against (linear OpenEXR).
+    pub reference: PathBuf,
+    /// Count only the pixels that are white in this image (e.g. what a method models).
+    #[arg(long, value_name = "PNG")]
+    pub mask: Option<PathBuf>,
+    /// Write the metrics as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Write the FLIP error map as a heat map PNG.
+    #[arg(long, value_name = "PNG")]
+    pub heatmap: Option<PathBuf>,
 }
 
 /// Parse `WIDTHxHEIGHT` (range checks happen against the device later).

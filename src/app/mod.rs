@@ -1,7 +1,9 @@
 //! The glue behind each subcommand: load, build, run, write, report.
 
 pub mod cli;
+mod compare;
 mod output;
+mod reference;
 pub mod render;
 
 pub use cli::{Cli, Command};
@@ -10,6 +12,8 @@ pub use cli::{Cli, Command};
 pub fn run(command: &Command) -> anyhow::Result<()> {
     match command {
         Command::Render(args) => render::run(args),
+        Command::Reference(args) => reference::run(args),
+        Command::Compare(args) => compare::run(args),
     }
 }
 

@@ -14,7 +14,13 @@ pub struct Hit {
 }
 
 /// Distance along `dir` to triangle `[a, b, c]`, if hit in `(t_min, t_max)`.
-pub fn intersect_triangle(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3], t_min: f32, t_max: f32) -> Option<(f32, f32, f32)> {
+pub fn intersect_triangle(
+    origin: Vec3,
+    dir: Vec3,
+    [a, b, c]: [Vec3; 3],
+    t_min: f32,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
     let e1 = b - a;
     let e2 = c - a;
     let p = dir.cross(e2);
@@ -43,7 +49,9 @@ impl Mesh {
         let mut best: Option<Hit> = None;
         for t in 0..self.triangle_count() {
             let limit = best.map_or(t_max, |b| b.t);
-            if let Some((dist, u, v)) = intersect_triangle(origin, dir, self.triangle(t), t_min, limit) {
+            if let Some((dist, u, v)) =
+                intersect_triangle(origin, dir, self.triangle(t), t_min, limit)
+            {
                 best = Some(Hit {
                     t: dist,
                     triangle: t,
@@ -61,7 +69,8 @@ impl Mesh {
         if length <= 2.0 * epsilon {
             return true;
         }
-        self.intersect(from, d / length, epsilon, length - epsilon).is_none()
+        self.intersect(from, d / length, epsilon, length - epsilon)
+            .is_none()
     }
 }
 
@@ -72,9 +81,12 @@ mod tests {
     #[test]
     fn hits_and_misses_a_triangle() {
         let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        let hit = intersect_triangle(Vec3::new(0.2, 0.2, 1.0), Vec3::NEG_Z, tri, 0.0, 10.0).unwrap();
+        let hit =
+            intersect_triangle(Vec3::new(0.2, 0.2, 1.0), Vec3::NEG_Z, tri, 0.0, 10.0).unwrap();
         assert!((hit.0 - 1.0).abs() < 1e-6);
-        assert!(intersect_triangle(Vec3::new(0.8, 0.8, 1.0), Vec3::NEG_Z, tri, 0.0, 10.0).is_none());
+        assert!(
+            intersect_triangle(Vec3::new(0.8, 0.8, 1.0), Vec3::NEG_Z, tri, 0.0, 10.0).is_none()
+        );
         assert!(intersect_triangle(Vec3::new(0.2, 0.2, 1.0), Vec3::Z, tri, 0.0, 10.0).is_none());
     }
 }

@@ -2,6 +2,7 @@
 //! and a camera, from a built-in name, a scene file (TOML) or a bare OBJ.
 
 pub mod builtin;
+pub mod bvh;
 pub mod camera;
 pub mod file;
 pub mod gpu;
