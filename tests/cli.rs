@@ -255,3 +255,125 @@ fn outputs_are_written_whole_or_not_at_all() {
         "does not exist",
     );
 }
+
+#[test]
+fn reference_writes_its_images_and_settings_and_reuses_them() {
+    let dir = scratch("reference");
+    let out = dir.join("ref.exr");
+    let png = dir.join("ref.png");
+    let args = [
+        "reference",
+        "--scene",
+        "cornell",
+        "--spp",
+        "4",
+        "--bounces",
+        "1",
+        "--size",
+        "16x12",
+        "--split",
+        "--out",
+        out.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+    ];
+    let first = vkgi(&args);
+    assert!(
+        first.status.success(),
+        "{}",
+        String::from_utf8_lossy(&first.stderr)
+    );
+    for name in [
+        "ref.exr",
+        "ref.direct.exr",
+        "ref.indirect.exr",
+        "ref.png",
+        "ref.exr.json",
+    ] {
+        assert!(dir.join(name).is_file(), "{name} missing");
+    }
+    let sidecar: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("ref.exr.json")).unwrap()).unwrap();
+    assert_eq!(sidecar["key"]["settings"]["spp"], 4);
+    assert_eq!(sidecar["key"]["settings"]["bounces"], 1);
+    assert_eq!(sidecar["split"], true);
+    let mut reuse = args.to_vec();
+    reuse.push("--reuse");
+    let second = vkgi(&reuse);
+    assert!(
+        String::from_utf8_lossy(&second.stderr).contains("reusing"),
+        "{second:?}"
+    );
+    // compare: an image against itself scores zero everywhere.
+    let same = vkgi(&["compare", out.to_str().unwrap(), out.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&same.stdout);
+    assert!(same.status.success());
+    for metric in [
+        "RMSE 0.000000",
+        "relMSE 0.000000",
+        "MAE 0.000000",
+        "FLIP 0.000000",
+    ] {
+        assert!(stdout.contains(metric), "{stdout}");
+    }
+    let direct = dir.join("ref.direct.exr");
+    let json = dir.join("m.json");
+    let heatmap = dir.join("flip.png");
+    let scored = vkgi(&[
+        "compare",
+        direct.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+        "--heatmap",
+        heatmap.to_str().unwrap(),
+    ]);
+    assert!(scored.status.success());
+    let metrics: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    assert!(metrics["rmse"].as_f64().unwrap() > 0.0);
+    assert!(heatmap.is_file());
+}
+
+#[test]
+fn reference_and_compare_reject_bad_input() {
+    let dir = scratch("compare");
+    let out = dir.join("x.exr");
+    let out = out.to_str().unwrap();
+    assert_bad_input(
+        &vkgi(&["reference", "--bounces", "lots", "--out", out]),
+        "bounce",
+    );
+    assert_bad_input(
+        &vkgi(&["reference", "--spp", "0", "--size", "8x8", "--out", out]),
+        "spp",
+    );
+    assert_bad_input(
+        &vkgi(&["reference", "--size", "0x0", "--spp", "1", "--out", out]),
+        "out of range",
+    );
+    let a = dir.join("a.exr");
+    let b = dir.join("b.exr");
+    let nan = dir.join("nan.exr");
+    vkgi::imageio::write_exr(&a, &vkgi::imageio::HdrImage::new(2, 2, vec![[1.0; 3]; 4])).unwrap();
+    vkgi::imageio::write_exr(&b, &vkgi::imageio::HdrImage::new(3, 2, vec![[1.0; 3]; 6])).unwrap();
+    vkgi::imageio::write_exr(
+        &nan,
+        &vkgi::imageio::HdrImage::new(2, 2, vec![[f32::NAN; 3]; 4]),
+    )
+    .unwrap();
+    let (a, b, nan) = (
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        nan.to_str().unwrap(),
+    );
+    assert_bad_input(&vkgi(&["compare", a, b]), "sizes differ");
+    assert_bad_input(&vkgi(&["compare", nan, a]), "non-finite");
+    assert_bad_input(&vkgi(&["compare", a, "/nonexistent.exr"]), "no such file");
+    let garbage = write(&dir, "garbage.exr", "not an image");
+    assert_bad_input(&vkgi(&["compare", &garbage, a]), "cannot read image");
+    assert_bad_input(
+        &vkgi(&["compare", a, a, "--mask", "/nonexistent.png"]),
+        "no such file",
+    );
+}
