@@ -1,12 +1,13 @@
-//! THE frame, top to bottom: shadow maps -> G-buffer -> direct lighting -> tone mapping.
-//! Every pass of a raster frame is recorded here, in order; GI techniques add their passes
-//! between the G-buffer and tone mapping.
+//! THE frame, top to bottom: shadow maps -> G-buffer -> GI light (RSM, injection, propagation)
+//! -> direct lighting -> GI lookup -> tone mapping. Every pass of a raster frame is recorded
+//! here, in order; a GI technique (src/gi/) adds its passes at the two marked points.
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use crate::error::InputError;
+use crate::gi::Technique;
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc, RasterPass,
     RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
@@ -27,6 +28,8 @@ pub struct FrameOptions {
     pub exposure_ev: f32,
     /// Side of each shadow-map layer in texels.
     pub shadow_map_size: u32,
+    /// Leave direct light and emission out of the HDR image (to score indirect light alone).
+    pub indirect_only: bool,
 }
 
 impl Default for FrameOptions {
@@ -36,6 +39,7 @@ impl Default for FrameOptions {
             height: 480,
             exposure_ev: 0.0,
             shadow_map_size: 1024,
+            indirect_only: false,
         }
     }
 }
@@ -63,6 +67,7 @@ struct GBufferPush {
 struct LightingPush {
     size: [u32; 2],
     light_count: u32,
+    include_direct: u32,
 }
 
 #[repr(C)]
@@ -285,10 +290,10 @@ impl Frame {
             ],
             push: bytemuck::bytes_of(&push),
             color: &[
-                (&g.position, [0.0; 4]),
-                (&g.normal, [0.0; 4]),
-                (&g.albedo, [0.0; 4]),
-                (&g.emission, [0.0; 4]),
+                (&g.position, 0, [0.0; 4]),
+                (&g.normal, 0, [0.0; 4]),
+                (&g.albedo, 0, [0.0; 4]),
+                (&g.emission, 0, [0.0; 4]),
             ],
             depth: Some((&g.depth, 0)),
             vertex_count: self.scene.vertex_count,
@@ -301,6 +306,7 @@ impl Frame {
         let push = LightingPush {
             size: [self.options.width, self.options.height],
             light_count: self.scene.light_count,
+            include_direct: u32::from(!self.options.indirect_only),
         };
         rec.compute(&ComputePass {
             name: "direct lighting",
@@ -342,11 +348,17 @@ impl Frame {
         })
     }
 
-    /// The whole frame, in order.
-    pub fn record(&self, rec: &mut Recorder) -> GpuResult<()> {
+    /// The whole frame, in order, with a GI technique's passes if there is one.
+    pub fn record(&self, rec: &mut Recorder, mut gi: Option<&mut dyn Technique>) -> GpuResult<()> {
         self.record_shadows(rec)?;
         self.record_gbuffer(rec)?;
+        if let Some(gi) = gi.as_deref_mut() {
+            gi.record_light(rec, self)?;
+        }
         self.record_direct_lighting(rec)?;
+        if let Some(gi) = gi {
+            gi.record_lookup(rec, self)?;
+        }
         self.record_tonemap(rec)
     }
 

@@ -3,6 +3,7 @@
 pub mod app;
 pub mod error;
 pub mod frame;
+pub mod gi;
 pub mod gpu;
 pub mod imageio;
 pub mod metrics;

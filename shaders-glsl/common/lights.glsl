@@ -12,7 +12,9 @@ struct Light {
 
 struct ShadowView {
     mat4 view_projection;
-    vec4 params;               // x = shadow texel size per unit distance
+    vec4 params;               // x = shadow texel size per unit distance, y near, z far,
+                               // w = 2 tan(fov/2)
+    vec4 axis_light;           // xyz view axis, w = light index
 };
 
 float spot_profile(float cos_angle, float cos_outer, float cos_inner) {

@@ -18,13 +18,14 @@ layout(binding = LIGHTING_HDR_OUT, rgba32f) writeonly uniform image2D hdr_out;
 layout(push_constant) uniform Push {
     uvec2 size;
     uint light_count;
+    uint include_direct;   // 0: indirect-only rendering, direct light and emission left out
 } pc;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
     vec4 position = imageLoad(gbuffer_position, pixel);
-    if (position.w == 0.0) {
+    if (position.w == 0.0 || pc.include_direct == 0u) {
         imageStore(hdr_out, pixel, vec4(0.0, 0.0, 0.0, 1.0));
         return;
     }

@@ -65,6 +65,10 @@ pub struct FrameArgs {
     /// Shadow-map resolution per light view.
     #[arg(long, default_value_t = 1024)]
     pub shadow_map: u32,
+    /// Render indirect light alone (no direct light, no emission), to score it against the
+    /// reference's indirect part.
+    #[arg(long)]
+    pub indirect_only: bool,
 }
 
 impl FrameArgs {
@@ -74,6 +78,7 @@ impl FrameArgs {
             height: self.size.1,
             exposure_ev: self.exposure,
             shadow_map_size: self.shadow_map,
+            indirect_only: self.indirect_only,
         }
     }
 }
@@ -98,6 +103,83 @@ impl ProfileArgs {
     }
 }
 
+/// Which global-illumination method, and its settings.
+#[derive(Args, Debug, Clone)]
+pub struct GiArgs {
+    /// GI method: none (direct light only), lpv (classic 6-neighbour), ilpv (seed 000).
+    #[arg(long, value_enum, default_value_t = Method::Ilpv)]
+    pub method: Method,
+    /// Lattice cells along the scene's longest axis (other axes: as many as the bounds need).
+    #[arg(long, default_value_t = 32)]
+    pub lattice: u32,
+    /// Propagation steps per frame.
+    #[arg(long, default_value_t = 8)]
+    pub iterations: u32,
+    /// ILPV's λ_incr: weight of last frame's propagated light (0 = plain propagation).
+    #[arg(long, default_value_t = 0.5)]
+    pub incremental: f32,
+    /// Reflective-shadow-map resolution per light view.
+    #[arg(long, default_value_t = 256)]
+    pub rsm: u32,
+    /// Absorption coefficient σa of the medium (ILPV).
+    #[arg(long, default_value_t = 0.0)]
+    pub absorption: f32,
+    /// Scattering coefficient σs of the medium (ILPV).
+    #[arg(long, default_value_t = 0.0)]
+    pub scattering: f32,
+    /// How σ becomes a per-step probability: thesis (σ^d̄) or physical (1 - exp(-σ d̄)).
+    #[arg(long, value_enum, default_value_t = crate::gi::lpv::Extinction::Thesis)]
+    pub extinction: crate::gi::lpv::Extinction,
+    /// The SH lobe a surface sample adds to the geometry (blocking) lattice.
+    #[arg(long, value_enum, default_value_t = crate::gi::lpv::geometry::BlockingLobe::TwoSided)]
+    pub blocking_lobe: crate::gi::lpv::geometry::BlockingLobe,
+    /// Apply blocking in the first step of a frame too (the thesis leaves it out).
+    #[arg(long)]
+    pub block_first_step: bool,
+    /// Use the naive global-memory propagation kernel instead of the shared-memory tiled one.
+    #[arg(long)]
+    pub naive: bool,
+    /// Propagate with the thesis's global κ only, without per-cell clamp compensation.
+    #[arg(long)]
+    pub no_clamp_compensation: bool,
+    /// What the ILPV lookup reads: the accumulated steps, or the thesis's final lattice.
+    #[arg(long, value_enum, default_value_t = crate::gi::lpv::technique::IlpvLookup::Accumulated)]
+    pub ilpv_lookup: crate::gi::lpv::technique::IlpvLookup,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Method {
+    None,
+    Lpv,
+    Ilpv,
+}
+
+impl GiArgs {
+    /// The LPV settings, or None for `--method none`.
+    pub fn lpv_settings(&self) -> Option<crate::gi::lpv::LpvSettings> {
+        let scheme = match self.method {
+            Method::None => return None,
+            Method::Lpv => crate::gi::lpv::Scheme::Lpv,
+            Method::Ilpv => crate::gi::lpv::Scheme::Ilpv,
+        };
+        Some(crate::gi::lpv::LpvSettings {
+            scheme,
+            lattice: self.lattice,
+            iterations: self.iterations,
+            incremental: self.incremental,
+            rsm: self.rsm,
+            absorption: self.absorption,
+            scattering: self.scattering,
+            extinction: self.extinction,
+            blocking_lobe: self.blocking_lobe,
+            first_step_unblocked: !self.block_first_step,
+            tiled: !self.naive,
+            clamp_compensation: !self.no_clamp_compensation,
+            ilpv_lookup: self.ilpv_lookup,
+        })
+    }
+}
+
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
     /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
@@ -109,9 +191,12 @@ pub struct RenderArgs {
     /// Linear radiance as 32-bit float OpenEXR.
     #[arg(long, value_name = "FILE")]
     pub hdr: Option<PathBuf>,
-    /// Frames to render (default 1, or 16 when profiling).
+    /// Frames to render (default: 16 for ilpv, whose light builds up over frames, or when
+    /// profiling; else 1).
     #[arg(long)]
     pub frames: Option<u32>,
+    #[command(flatten)]
+    pub gi: GiArgs,
     #[command(flatten)]
     pub frame: FrameArgs,
     #[command(flatten)]

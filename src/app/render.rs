@@ -1,18 +1,21 @@
-//! `vkgi render`: a headless render of a scene, optionally profiled.
+//! `vkgi render`: a headless render of a scene, with or without GI, optionally profiled.
 
 use anyhow::Context;
 
 use crate::frame::Frame;
+use crate::gi::Technique;
+use crate::gi::lpv::Lpv;
 use crate::gpu::Gpu;
 use crate::gpu::frames::FrameRing;
 use crate::imageio::HdrImage;
 use crate::scene::Scene;
 
-use super::cli::RenderArgs;
+use super::cli::{Method, RenderArgs};
 use super::output;
 
-/// Frames rendered when profiling and `--frames` is not given.
-const DEFAULT_PROFILE_FRAMES: u32 = 16;
+/// Frames rendered for ILPV (whose light builds up over frames) or when profiling, when
+/// `--frames` is not given.
+const DEFAULT_MANY_FRAMES: u32 = 16;
 /// Frames in flight in the frame ring.
 const FRAMES_IN_FLIGHT: usize = 2;
 
@@ -21,16 +24,25 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let frames = match args.frames {
         Some(0) => crate::bad_input!("--frames must be at least 1"),
         Some(n) => n,
-        None if args.profile.wanted() => DEFAULT_PROFILE_FRAMES,
+        None if args.profile.wanted() || args.gi.method == Method::Ilpv => DEFAULT_MANY_FRAMES,
         None => 1,
     };
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
     let frame = Frame::new(&gpu, &scene, args.frame.options())?;
+    let mut technique: Option<Box<dyn Technique>> = match args.gi.lpv_settings() {
+        Some(settings) => Some(Box::new(Lpv::new(&gpu, &scene, settings)?)),
+        None => None,
+    };
     let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, FRAMES_IN_FLIGHT)?;
     ring.profiler
         .add_note(format!("queue plan: {}", gpu.queues.describe()));
+    for line in technique.iter().flat_map(|t| t.describe()) {
+        ring.profiler.add_note(line);
+    }
     for _ in 0..frames {
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec))?;
+        // Shorten the boxed object's lifetime to this frame's borrow.
+        let gi = technique.as_mut().map(|t| t.as_mut() as &mut dyn Technique);
+        ring.submit_frame(&gpu, &[], |rec| frame.record(rec, gi))?;
     }
     ring.finish()?;
     check_validation(&gpu)?;

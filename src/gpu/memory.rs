@@ -419,6 +419,11 @@ impl Gpu {
         )
     }
 
+    /// A device-local uniform buffer holding `data` (constants read by every invocation).
+    pub fn upload_uniform(&self, name: &str, data: &[u8]) -> GpuResult<Buffer> {
+        self.upload_buffer(name, vk::BufferUsageFlags::UNIFORM_BUFFER, data)
+    }
+
     /// Overwrite the start of a device-local buffer (which must allow TRANSFER_DST) with `data`.
     pub fn write_buffer(&self, buffer: &Buffer, data: &[u8]) -> GpuResult<()> {
         let staging_name = format!("{} (staging)", buffer.name);

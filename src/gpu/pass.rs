@@ -242,10 +242,20 @@ pub struct RasterPass<'p> {
     pub pipeline: &'p RasterPipeline,
     pub bindings: &'p [Binding<'p>],
     pub push: &'p [u8],
-    pub color: &'p [(&'p Image, [f32; 4])],
+    /// Colour attachments, the layer rendered into, and their clear colours.
+    pub color: &'p [(&'p Image, u32, [f32; 4])],
     /// Depth attachment and the layer rendered into.
     pub depth: Option<(&'p Image, u32)>,
     pub vertex_count: u32,
+}
+
+/// The view of one layer of `image` (the whole image if it has no per-layer views).
+fn layer_view(image: &Image, layer: u32) -> vk::ImageView {
+    image
+        .layer_views
+        .get(layer as usize)
+        .copied()
+        .unwrap_or(image.view)
 }
 
 enum Resource<'r> {
@@ -576,7 +586,7 @@ impl<'a> Recorder<'a> {
         let extent = pass
             .color
             .first()
-            .map(|(img, _)| img.extent)
+            .map(|(img, _, _)| img.extent)
             .or(pass.depth.map(|(img, _)| img.extent))
             .ok_or_else(|| GpuError::Interface {
                 pass: pass.name.to_string(),
@@ -584,7 +594,7 @@ impl<'a> Recorder<'a> {
             })?;
         let scope = self.begin_scope(pass.name);
         let mut accesses = Self::binding_accesses(pass.bindings, true);
-        for (image, _) in pass.color {
+        for (image, _, _) in pass.color {
             accesses.push((Resource::Image(image), Access::ColorAttachment));
         }
         if let Some((image, _)) = pass.depth {
@@ -595,9 +605,9 @@ impl<'a> Recorder<'a> {
         let color_attachments: Vec<vk::RenderingAttachmentInfo> = pass
             .color
             .iter()
-            .map(|(image, clear)| {
+            .map(|(image, layer, clear)| {
                 vk::RenderingAttachmentInfo::default()
-                    .image_view(image.view)
+                    .image_view(layer_view(image, *layer))
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
                     .load_op(vk::AttachmentLoadOp::CLEAR)
                     .store_op(vk::AttachmentStoreOp::STORE)
@@ -607,13 +617,8 @@ impl<'a> Recorder<'a> {
             })
             .collect();
         let depth_attachment = pass.depth.map(|(image, layer)| {
-            let view = image
-                .layer_views
-                .get(layer as usize)
-                .copied()
-                .unwrap_or(image.view);
             vk::RenderingAttachmentInfo::default()
-                .image_view(view)
+                .image_view(layer_view(image, layer))
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::STORE)

@@ -40,8 +40,11 @@ pub struct GpuLight {
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct GpuShadowView {
     pub view_projection: [[f32; 4]; 4],
-    /// x = world-space size of a shadow texel per unit distance from the light.
+    /// x = world-space size of a texel of a `map_size` map per unit distance from the light,
+    /// y = near plane, z = far plane, w = 2 tan(fov / 2) (texel size times map size).
     pub params: [f32; 4],
+    /// xyz = the view's axis, w = index of the light.
+    pub axis_light: [f32; 4],
 }
 
 /// Extra field of view around a spot cone, so the cone edge lies inside the shadow map.
@@ -67,13 +70,15 @@ pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShad
         };
         let far = far_for(light.position);
         let near = (extent * 1e-3).min(far * 0.01);
+        let light_index = lights.len() as f32;
         let mut push_view = |dir: Vec3, up: Vec3, fov_deg: f32| {
             let view = look_at_mat4(light.position, light.position + dir, up);
             let proj = vulkan::perspective(fov_deg.to_radians(), 1.0, near, far);
-            let texel = 2.0 * (0.5 * fov_deg.to_radians()).tan() / map_size as f32;
+            let extent = 2.0 * (0.5 * fov_deg.to_radians()).tan();
             views.push(GpuShadowView {
                 view_projection: (proj * view).to_cols_array_2d(),
-                params: [texel, near, far, 0.0],
+                params: [extent / map_size as f32, near, far, extent],
+                axis_light: [dir.x, dir.y, dir.z, light_index],
             });
         };
         let (kind, axis) = match light.kind {
@@ -130,6 +135,8 @@ pub struct SceneBuffers {
     pub light_count: u32,
     /// Shadow views of every light, in order (the shadow pass renders one layer per view).
     pub shadow_view_matrices: Vec<Mat4>,
+    /// The position of the light each shadow view belongs to.
+    pub shadow_view_origins: Vec<Vec3>,
 }
 
 impl SceneBuffers {
@@ -167,6 +174,10 @@ impl SceneBuffers {
             shadow_view_matrices: views
                 .iter()
                 .map(|v| Mat4::from_cols_array_2d(&v.view_projection))
+                .collect(),
+            shadow_view_origins: views
+                .iter()
+                .map(|v| scene.lights[v.axis_light[3] as usize].position)
                 .collect(),
         })
     }

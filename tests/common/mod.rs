@@ -38,7 +38,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Frame, Vec<
     )
     .expect("frame");
     let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("frame ring");
-    ring.submit_frame(gpu, &[], |rec| frame.record(rec))
+    ring.submit_frame(gpu, &[], |rec| frame.record(rec, None))
         .expect("frame");
     ring.finish().expect("finish");
     let hdr = frame.read_hdr(gpu).expect("readback");

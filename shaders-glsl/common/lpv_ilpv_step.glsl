@@ -1,0 +1,57 @@
+// One 26-neighbour ILPV gather step for one colour channel (seed 000, Listing 5.2/5.3): each
+// destination cell gathers from its 26 neighbours, with absorption and scattering, blocking by
+// the source cell's geometry SH, negative transfers clamped to zero. src/gi/lpv/cpu.rs step_26
+// is the same in f64. With `accumulate`, the result is also summed into the accumulation
+// lattice the lookup reads. Included by lpv/ilpv_tiled.comp and lpv/ilpv_naive.comp.
+
+#extension GL_EXT_control_flow_attributes : require
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+
+struct Neighbour {
+    vec4 transfer;    // Γ_j (κ-scaled)
+    ivec3 offset;     // neighbour direction
+    float outscatter; // γ_j
+};
+
+layout(binding = ILPV_SOURCE, std430) readonly buffer Source { vec4 source_cells[]; };
+layout(binding = ILPV_DESTINATION, std430) writeonly buffer Destination { vec4 destination_cells[]; };
+layout(binding = ILPV_ACCUMULATION, std430) buffer Accumulation { vec4 accumulation_cells[]; };
+layout(binding = ILPV_GEOMETRY, std430) readonly buffer Geometry { vec4 geometry_cells[]; };
+layout(binding = ILPV_NEIGHBOURS, std140) uniform Neighbours { Neighbour neighbours[26]; };
+
+layout(push_constant) uniform Push {
+    ivec4 dims;
+    float keep;            // 1 - λs - λa
+    float scatter_energy;  // 2 sqrt(pi) λs
+    float use_blocking;    // 0 in the first step of a frame
+    uint accumulate;       // 1: also add the result to the accumulation lattice
+} pc;
+
+#include "common/lpv_tile.glsl"
+
+// The d-th of the 26 offsets in {-1,0,1}³ without the centre, x fastest (transfer.rs offsets).
+ivec3 neighbour_offset(int d) {
+    int i = d < 13 ? d : d + 1;
+    return ivec3(i % 3, (i / 3) % 3, i / 9) - 1;
+}
+
+void main() {
+    prepare_sources();
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (!lattice_inside(cell, pc.dims.xyz)) return;
+    vec4 dst = vec4(0.0);
+    // Unrolled: every neighbour offset (the same x-fastest order as transfer.rs) is a constant.
+    [[unroll]] for (int d = 0; d < 26; ++d) {
+        Neighbour n = neighbours[d];
+        ivec3 offset = neighbour_offset(d);
+        vec4 src = source_light(cell, -offset);
+        vec4 blocker = source_geometry(cell, -offset);
+        float outscattered = src.x * pc.scatter_energy;
+        float blocking = clamp(1.0 - pc.use_blocking * dot(blocker, n.transfer), 0.0, 1.0);
+        float factor = max((pc.keep * dot(src, n.transfer) + outscattered * n.outscatter) * blocking, 0.0);
+        dst += n.transfer * factor;
+    }
+    uint i = lattice_index(cell, pc.dims.xyz);
+    destination_cells[i] = dst;
+    if (pc.accumulate != 0u) accumulation_cells[i] += dst;
+}

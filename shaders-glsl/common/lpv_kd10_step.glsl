@@ -1,0 +1,54 @@
+// One classic LPV step for one colour channel (Kaplanyan & Dachsbacher 2010): from each of the 6
+// face neighbours, the flux through the 5 faces of this cell other than the shared one
+// (Ω_f times the source's intensity toward the face centre), re-emitted as a cosine lobe around
+// the face normal; the step's result is also added to the accumulation lattice. Blocking uses
+// the mean geometry SH of source and destination. src/gi/lpv/cpu.rs step_6 is the same in f64.
+// Included by lpv/lpv_tiled.comp and lpv/lpv_naive.comp.
+
+#extension GL_EXT_control_flow_attributes : require
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+
+struct Face {
+    vec4 evaluation;  // Ω_f times the SH basis at the direction of the face centre
+    vec4 lobe;        // SH_cos(face normal) / pi
+};
+
+struct Axis {
+    ivec4 offset;             // xyz = direction from source to this cell
+    vec4 blocking_transfer;   // the 26-neighbour transfer vector of this direction
+    Face faces[5];
+};
+
+layout(binding = LPV_SOURCE, std430) readonly buffer Source { vec4 source_cells[]; };
+layout(binding = LPV_DESTINATION, std430) writeonly buffer Destination { vec4 destination_cells[]; };
+layout(binding = LPV_ACCUMULATION, std430) buffer Accumulation { vec4 accumulation_cells[]; };
+layout(binding = LPV_GEOMETRY, std430) readonly buffer Geometry { vec4 geometry_cells[]; };
+layout(binding = LPV_AXES, std140) uniform Axes { Axis axes[6]; };
+
+layout(push_constant) uniform Push {
+    ivec4 dims;
+    float use_blocking;
+} pc;
+
+#include "common/lpv_tile.glsl"
+
+void main() {
+    prepare_sources();
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (!lattice_inside(cell, pc.dims.xyz)) return;
+    vec4 own_geometry = source_geometry(cell, ivec3(0));
+    vec4 dst = vec4(0.0);
+    [[unroll]] for (int a = 0; a < 6; ++a) {
+        ivec3 offset = axes[a].offset.xyz;
+        vec4 src = source_light(cell, -offset);
+        vec4 blocker = 0.5 * (source_geometry(cell, -offset) + own_geometry);
+        float blocking = clamp(1.0 - pc.use_blocking * dot(blocker, axes[a].blocking_transfer), 0.0, 1.0);
+        [[unroll]] for (int f = 0; f < 5; ++f) {
+            float flux = max(dot(src, axes[a].faces[f].evaluation), 0.0) * blocking;
+            dst += axes[a].faces[f].lobe * flux;
+        }
+    }
+    uint i = lattice_index(cell, pc.dims.xyz);
+    destination_cells[i] = dst;
+    accumulation_cells[i] += dst;
+}

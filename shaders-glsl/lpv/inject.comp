@@ -1,0 +1,42 @@
+#version 460
+// VPL injection: every RSM texel is a VPL moved half a cell along its normal and added to its
+// cell as a clamped-cosine intensity lobe (Φ/π) SH_cos(n), per colour channel, with float
+// atomics. src/gi/lpv/cpu.rs inject is the same in f64.
+#extension GL_EXT_shader_atomic_float : require
+#include "common/math.glsl"
+#include "common/sh.glsl"
+#include "common/lattice.glsl"
+
+layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
+
+layout(binding = INJECT_RSM_POSITION, rgba32f) readonly uniform image2DArray rsm_position;
+layout(binding = INJECT_RSM_NORMAL, rgba16f) readonly uniform image2DArray rsm_normal;
+layout(binding = INJECT_RSM_FLUX, rgba32f) readonly uniform image2DArray rsm_flux;
+layout(binding = INJECT_LATTICE_R, std430) buffer LatticeR { float lattice_r[]; };
+layout(binding = INJECT_LATTICE_G, std430) buffer LatticeG { float lattice_g[]; };
+layout(binding = INJECT_LATTICE_B, std430) buffer LatticeB { float lattice_b[]; };
+
+layout(push_constant) uniform Push {
+    vec4 origin_cell;  // xyz lattice origin, w cell size
+    ivec4 dims;        // xyz cells, w = RSM size
+    uint layers;
+} pc;
+
+void main() {
+    ivec3 texel = ivec3(gl_GlobalInvocationID);
+    if (texel.x >= pc.dims.w || texel.y >= pc.dims.w || uint(texel.z) >= pc.layers) return;
+    vec4 position = imageLoad(rsm_position, texel);
+    vec3 flux = imageLoad(rsm_flux, texel).rgb;
+    if (position.w == 0.0 || all(equal(flux, vec3(0.0)))) return;
+    vec3 n = normalize(imageLoad(rsm_normal, texel).xyz);
+    vec3 p = position.xyz + n * (0.5 * pc.origin_cell.w);
+    ivec3 cell = ivec3(floor((p - pc.origin_cell.xyz) / pc.origin_cell.w));
+    if (!lattice_inside(cell, pc.dims.xyz)) return;
+    uint base = 4u * lattice_index(cell, pc.dims.xyz);
+    vec4 lobe = sh_cosine_lobe(n) * INV_PI;
+    for (uint k = 0u; k < 4u; ++k) {
+        atomicAdd(lattice_r[base + k], lobe[k] * flux.r);
+        atomicAdd(lattice_g[base + k], lobe[k] * flux.g);
+        atomicAdd(lattice_b[base + k], lobe[k] * flux.b);
+    }
+}

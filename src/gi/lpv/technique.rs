@@ -1,0 +1,875 @@
+//! The LPV technique on the GPU: its settings, its persistent resources, and the passes it adds
+//! to a frame: reflective shadow maps, VPL injection, (ILPV) the blend with last frame's light,
+//! propagation per colour channel, and the lookup into the HDR image.
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use glam::DVec4;
+
+use super::geometry::{self, BlockingLobe};
+use super::lattice::Lattice;
+use super::sh;
+use super::transfer::{FaceScheme, TransferVectors};
+use crate::error::InputError;
+use crate::frame::Frame;
+use crate::gi::Technique;
+use crate::gpu::{
+    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
+    RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
+};
+use crate::scene::Scene;
+use crate::shader_shared as ids;
+use crate::shaders;
+
+/// Which propagation scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Scheme {
+    /// Classic 6-neighbour, 5-face LPV with an accumulation lattice (Kaplanyan & Dachsbacher).
+    Lpv,
+    /// Seed 000's incremental 26-neighbour LPV.
+    Ilpv,
+}
+
+/// How σa and σs become per-step probabilities λ on the lattice (d̄ = mean neighbour distance).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Extinction {
+    /// The thesis: λ = σ^d̄ (σ in [0, 1]; depends on the world unit).
+    Thesis,
+    /// Beer–Lambert: λ = 1 - exp(-σ d̄) (σ per world unit).
+    Physical,
+}
+
+/// What the ILPV lookup reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum IlpvLookup {
+    /// The sum of this frame's merged lattice and its steps before the last, divided by the
+    /// blend's weight of new light (1 - λ_incr): in the steady state Σ_m λ^m times the light
+    /// each window of N steps carries, i.e. accumulated propagation reaching N/(1-λ) steps.
+    /// Times d̄ = 1.416: a 26-neighbour step moves light d̄ cells on average, so a cell holds
+    /// light for 1/d̄ of the steps a packet at one cell per step would spend in it.
+    Accumulated,
+    /// The thesis: the last step's lattice alone, scaled by its mean effective depth N/(1-λ)
+    /// to turn a snapshot of travelling flux into radiance (spec 000 §6.2).
+    Final,
+}
+
+/// Mean distance to the 26 neighbours in cells: (6 + 12√2 + 8√3) / 26.
+pub const MEAN_NEIGHBOUR_DISTANCE: f64 = 1.416_421_8;
+/// Samples per neighbour cell for the transfer vectors (fixed seed).
+const TRANSFER_SAMPLES: usize = 20_000;
+const TRANSFER_SEED: u64 = 0x000c_0ffe_e000;
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct LpvSettings {
+    pub scheme: Scheme,
+    /// Cells along the scene's longest axis.
+    pub lattice: u32,
+    /// Propagation steps per frame.
+    pub iterations: u32,
+    /// λ_incr, the weight of last frame's light (ILPV only; 0 = plain propagation).
+    pub incremental: f32,
+    /// RSM resolution per light view.
+    pub rsm: u32,
+    pub absorption: f32,
+    pub scattering: f32,
+    pub extinction: Extinction,
+    pub blocking_lobe: BlockingLobe,
+    /// Apply no blocking in the first step of a frame (the thesis).
+    pub first_step_unblocked: bool,
+    /// Shared-memory tiled propagation (else the naive global-memory kernel).
+    pub tiled: bool,
+    /// Rescale cells so each 26-neighbour step conserves energy despite the clamp.
+    pub clamp_compensation: bool,
+    pub ilpv_lookup: IlpvLookup,
+}
+
+impl Default for LpvSettings {
+    fn default() -> Self {
+        LpvSettings {
+            scheme: Scheme::Ilpv,
+            lattice: 32,
+            iterations: 8,
+            incremental: 0.5,
+            rsm: 256,
+            absorption: 0.0,
+            scattering: 0.0,
+            extinction: Extinction::Thesis,
+            blocking_lobe: BlockingLobe::TwoSided,
+            first_step_unblocked: true,
+            tiled: true,
+            clamp_compensation: true,
+            ilpv_lookup: IlpvLookup::Accumulated,
+        }
+    }
+}
+
+impl LpvSettings {
+    fn validate(&self) -> Result<(), InputError> {
+        let err = |m: String| Err(InputError::new(m));
+        if self.iterations > 4096 {
+            return err(format!(
+                "--iterations {} is out of range 0..=4096",
+                self.iterations
+            ));
+        }
+        if !(self.incremental.is_finite() && (0.0..=0.999).contains(&self.incremental)) {
+            return err(format!(
+                "--incremental {} is out of range [0, 0.999]",
+                self.incremental
+            ));
+        }
+        if !(8..=2048).contains(&self.rsm) {
+            return err(format!("--rsm {} is out of range 8..=2048", self.rsm));
+        }
+        for (name, v) in [
+            ("--absorption", self.absorption),
+            ("--scattering", self.scattering),
+        ] {
+            let max = if self.extinction == Extinction::Thesis {
+                1.0
+            } else {
+                1e6
+            };
+            if !(v.is_finite() && (0.0..=max).contains(&v)) {
+                return err(format!("{name} {v} is out of range [0, {max}]"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Lattice-normalised (λa, λs), clamped so that λa + λs ≤ 1.
+    pub fn medium(&self, cell_size: f32) -> (f64, f64) {
+        let d = MEAN_NEIGHBOUR_DISTANCE * f64::from(cell_size);
+        let lambda = |sigma: f32| {
+            let s = f64::from(sigma);
+            match self.extinction {
+                Extinction::Thesis if s <= 0.0 => 0.0,
+                Extinction::Thesis => s.powf(d),
+                Extinction::Physical => 1.0 - (-s * d).exp(),
+            }
+        };
+        let (a, s) = (lambda(self.absorption), lambda(self.scattering));
+        let total = a + s;
+        if total > 1.0 {
+            (a / total, s / total)
+        } else {
+            (a, s)
+        }
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct GpuNeighbour {
+    transfer: [f32; 4],
+    offset: [i32; 3],
+    outscatter: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct GpuFace {
+    evaluation: [f32; 4],
+    lobe: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct GpuAxis {
+    offset: [i32; 4],
+    blocking_transfer: [f32; 4],
+    faces: [GpuFace; 5],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct RsmPush {
+    view_projection: [[f32; 4]; 4],
+    light_position: [f32; 4],
+    view: u32,
+    size: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct InjectPush {
+    origin_cell: [f32; 4],
+    dims: [i32; 4],
+    layers: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct MergePush {
+    cells: u32,
+    previous_factor: f32,
+    current_factor: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct CountPush {
+    count: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct IlpvPush {
+    dims: [i32; 4],
+    keep: f32,
+    scatter_energy: f32,
+    use_blocking: f32,
+    accumulate: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct LpvPush {
+    dims: [i32; 4],
+    use_blocking: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct LookupPush {
+    origin_cell: [f32; 4],
+    dims: [i32; 4],
+    size: [u32; 2],
+    scale: f32,
+}
+
+/// Workgroup tiles the tiled kernels try, largest first; the first whose halo-padded light and
+/// geometry tiles fit the device's shared memory is used.
+const TILE_CANDIDATES: [[u32; 3]; 6] = [
+    [8, 8, 8],
+    [8, 8, 4],
+    [8, 4, 4],
+    [4, 4, 4],
+    [4, 4, 2],
+    [2, 2, 2],
+];
+/// Cells of padding on the innermost (z) axis of the shared tiles.
+const Z_PAD: u32 = 1;
+/// Workgroup of the naive kernels.
+const NAIVE_GROUP: [u32; 3] = [4, 4, 4];
+
+/// Shared memory a tile of `t` cells needs: light and geometry, one-cell halo, z padded.
+pub fn tile_shared_bytes(t: [u32; 3]) -> u32 {
+    2 * 16 * (t[0] + 2) * (t[1] + 2) * (t[2] + 2 + Z_PAD)
+}
+
+/// The largest candidate tile that fits `shared_bytes` and `max_invocations`.
+pub fn choose_tile(shared_bytes: u32, max_invocations: u32) -> Option<[u32; 3]> {
+    TILE_CANDIDATES.into_iter().find(|t| {
+        tile_shared_bytes(*t) <= shared_bytes && t.iter().product::<u32>() <= max_invocations
+    })
+}
+
+const CHANNELS: [&str; 3] = ["R", "G", "B"];
+
+/// Pass names, built once so recording allocates nothing per step.
+struct PassNames {
+    rsm: Vec<String>,
+    merge: [String; 3],
+    compensate: Vec<[String; 3]>,
+    propagate: Vec<[String; 3]>,
+    accumulate: [String; 3],
+}
+
+pub struct Lpv {
+    pub settings: LpvSettings,
+    pub lattice: Lattice,
+    pub transfer: TransferVectors,
+    /// The workgroup tile of the propagation kernel (tiled: the shared-memory tile).
+    pub tile: [u32; 3],
+    rsm_pipeline: RasterPipeline,
+    inject_pipeline: ComputePipeline,
+    merge_pipeline: ComputePipeline,
+    compensate_pipeline: ComputePipeline,
+    propagate_pipeline: ComputePipeline,
+    lookup_pipeline: ComputePipeline,
+    rsm_position: Image,
+    rsm_normal: Image,
+    rsm_flux: Image,
+    rsm_depth: Image,
+    /// Two lattices per channel, ping-ponged.
+    lattices: [[Buffer; 2]; 3],
+    /// The sum of the steps the lookup reads, per channel.
+    accumulation: [Buffer; 3],
+    /// The radiance scale of this frame's lookup relative to 1 / (π d²).
+    lookup_scale: f32,
+    geometry: Buffer,
+    neighbours: Buffer,
+    axes: Buffer,
+    /// Which of the two lattices per channel holds the last frame's propagated light.
+    result: usize,
+    frames: u64,
+    /// Emitted flux of the lights at the last frame (E in the ILPV blend).
+    previous_energy: f64,
+    energy: f64,
+    names: PassNames,
+    device_shared_bytes: u32,
+}
+
+impl Lpv {
+    pub fn new(gpu: &Gpu, scene: &Scene, settings: LpvSettings) -> anyhow::Result<Lpv> {
+        settings.validate()?;
+        let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
+        let cells = lattice.cell_count();
+        let max_cells = gpu.info.max_storage_buffer_range as usize / 16;
+        if cells > max_cells {
+            return Err(InputError::new(format!(
+                "a {}x{}x{} lattice ({cells} cells) exceeds the device's {max_cells}-cell buffer limit",
+                lattice.dims.x, lattice.dims.y, lattice.dims.z
+            ))
+            .into());
+        }
+        if !gpu.info.shader_buffer_float32_atomic_add {
+            anyhow::bail!(
+                "LPV injection needs float atomics (VK_EXT_shader_atomic_float), which this device lacks"
+            );
+        }
+        let transfer = TransferVectors::compute(TRANSFER_SAMPLES, TRANSFER_SEED);
+        let faces = FaceScheme::compute();
+        let geometry_cells =
+            geometry::build(&scene.mesh, &lattice, &transfer, settings.blocking_lobe);
+
+        let shared = gpu.info.max_shared_memory_bytes;
+        let (tile, propagate_spirv) = match (settings.scheme, settings.tiled) {
+            (scheme, true) => {
+                let tile =
+                    choose_tile(shared, gpu.info.max_workgroup_invocations).ok_or_else(|| {
+                        anyhow::anyhow!("no propagation tile fits {shared} bytes of shared memory")
+                    })?;
+                let spirv = match scheme {
+                    Scheme::Ilpv => shaders::LPV_ILPV_TILED_COMP,
+                    Scheme::Lpv => shaders::LPV_LPV_TILED_COMP,
+                };
+                (tile, spirv)
+            }
+            (Scheme::Ilpv, false) => (NAIVE_GROUP, shaders::LPV_ILPV_NAIVE_COMP),
+            (Scheme::Lpv, false) => (NAIVE_GROUP, shaders::LPV_LPV_NAIVE_COMP),
+        };
+        let mut spec = Specialization::new()
+            .with_u32(0, tile[0])
+            .with_u32(1, tile[1])
+            .with_u32(2, tile[2]);
+        if settings.tiled {
+            spec = spec.with_u32(3, Z_PAD);
+        }
+        let none = Specialization::new();
+        let propagate_name = match settings.scheme {
+            Scheme::Ilpv => "ilpv propagation",
+            Scheme::Lpv => "lpv propagation",
+        };
+        let propagate_pipeline = ComputePipeline::new(gpu, propagate_name, propagate_spirv, &spec)?;
+        let rsm_pipeline = RasterPipeline::new(
+            gpu,
+            &RasterPipelineDesc {
+                name: "rsm",
+                vertex: shaders::RASTER_GBUFFER_VERT,
+                fragment: Some(shaders::LPV_RSM_FRAG),
+                color_formats: &[
+                    vk::Format::R32G32B32A32_SFLOAT,
+                    vk::Format::R16G16B16A16_SFLOAT,
+                    vk::Format::R32G32B32A32_SFLOAT,
+                ],
+                depth_format: Some(vk::Format::D32_SFLOAT),
+                depth_bias: None,
+            },
+        )?;
+
+        let views = scene.lights.iter().map(|l| match l.kind {
+            crate::scene::LightKind::Spot { .. } => 1,
+            crate::scene::LightKind::Point => 6,
+        });
+        let layers = views.sum::<u32>().max(1);
+        let rsm_image = |name, format| {
+            gpu.create_image(&ImageDesc {
+                layers,
+                array: true,
+                ..ImageDesc::new_2d(
+                    name,
+                    format,
+                    settings.rsm,
+                    settings.rsm,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
+                )
+            })
+        };
+        let lattice_buffer =
+            |name: String| gpu.create_buffer(&BufferDesc::storage(&name, (cells * 16) as u64));
+        let channel_pair = |c: usize| -> GpuResult<[Buffer; 2]> {
+            Ok([
+                lattice_buffer(format!("lattice {} a", CHANNELS[c]))?,
+                lattice_buffer(format!("lattice {} b", CHANNELS[c]))?,
+            ])
+        };
+        let lattices = [channel_pair(0)?, channel_pair(1)?, channel_pair(2)?];
+        let accumulation = [
+            lattice_buffer("accumulation R".into())?,
+            lattice_buffer("accumulation G".into())?,
+            lattice_buffer("accumulation B".into())?,
+        ];
+        let geometry_f32: Vec<[f32; 4]> = geometry_cells
+            .iter()
+            .map(|c| c.as_vec4().to_array())
+            .collect();
+        let neighbours: Vec<GpuNeighbour> = transfer
+            .neighbours
+            .iter()
+            .map(|n| GpuNeighbour {
+                transfer: n.transfer.as_vec4().to_array(),
+                offset: n.offset.to_array(),
+                outscatter: n.outscatter as f32,
+            })
+            .collect();
+        let axes: Vec<GpuAxis> = faces
+            .axes
+            .iter()
+            .map(|(axis, f)| GpuAxis {
+                offset: [axis.x, axis.y, axis.z, 0],
+                blocking_transfer: transfer
+                    .neighbours
+                    .iter()
+                    .find(|n| n.offset == *axis)
+                    .map_or(DVec4::ZERO, |n| n.transfer)
+                    .as_vec4()
+                    .to_array(),
+                faces: f.map(|face| GpuFace {
+                    evaluation: (sh::basis(face.direction) * face.solid_angle)
+                        .as_vec4()
+                        .to_array(),
+                    lobe: (sh::cosine_lobe(face.normal) / std::f64::consts::PI)
+                        .as_vec4()
+                        .to_array(),
+                }),
+            })
+            .collect();
+
+        let names = PassNames {
+            rsm: (0..layers).map(|v| format!("rsm view {v}")).collect(),
+            merge: CHANNELS.map(|c| format!("merge {c}")),
+            compensate: (0..settings.iterations)
+                .map(|s| CHANNELS.map(|c| format!("compensate {c} step {}", s + 1)))
+                .collect(),
+            propagate: (0..settings.iterations)
+                .map(|s| CHANNELS.map(|c| format!("propagate {c} step {}", s + 1)))
+                .collect(),
+            accumulate: CHANNELS.map(|c| format!("accumulate {c}")),
+        };
+        Ok(Lpv {
+            lattice,
+            transfer,
+            tile,
+            rsm_pipeline,
+            inject_pipeline: ComputePipeline::new(gpu, "inject", shaders::LPV_INJECT_COMP, &none)?,
+            merge_pipeline: ComputePipeline::new(gpu, "merge", shaders::LPV_MERGE_COMP, &none)?,
+            compensate_pipeline: ComputePipeline::new(
+                gpu,
+                "compensate",
+                shaders::LPV_COMPENSATE_COMP,
+                &none,
+            )?,
+            propagate_pipeline,
+            lookup_pipeline: ComputePipeline::new(
+                gpu,
+                "lpv lookup",
+                shaders::LPV_LOOKUP_COMP,
+                &none,
+            )?,
+            rsm_position: rsm_image("rsm position", vk::Format::R32G32B32A32_SFLOAT)?,
+            rsm_normal: rsm_image("rsm normal", vk::Format::R16G16B16A16_SFLOAT)?,
+            rsm_flux: rsm_image("rsm flux", vk::Format::R32G32B32A32_SFLOAT)?,
+            rsm_depth: gpu.create_image(&ImageDesc::new_2d(
+                "rsm depth",
+                vk::Format::D32_SFLOAT,
+                settings.rsm,
+                settings.rsm,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            ))?,
+            lattices,
+            accumulation,
+            lookup_scale: 1.0,
+            geometry: gpu
+                .upload_storage("geometry lattice", bytemuck::cast_slice(&geometry_f32))?,
+            neighbours: gpu.upload_uniform("ilpv neighbours", bytemuck::cast_slice(&neighbours))?,
+            axes: gpu.upload_uniform("lpv axes", bytemuck::cast_slice(&axes))?,
+            result: 0,
+            frames: 0,
+            previous_energy: 0.0,
+            energy: scene
+                .lights
+                .iter()
+                .map(|l| f64::from(l.flux) * f64::from(l.color.element_sum()) / 3.0)
+                .sum(),
+            names,
+            device_shared_bytes: shared,
+            settings,
+        })
+    }
+
+    /// The lattices the lookup reads: the accumulation, or ILPV's last propagated light.
+    pub fn result_lattices(&self) -> [&Buffer; 3] {
+        if self.reads_final() {
+            [0, 1, 2].map(|c| &self.lattices[c][self.result])
+        } else {
+            [0, 1, 2].map(|c| &self.accumulation[c])
+        }
+    }
+
+    fn reads_final(&self) -> bool {
+        self.settings.scheme == Scheme::Ilpv && self.settings.ilpv_lookup == IlpvLookup::Final
+    }
+
+    /// Whether step `step` (0-based) adds its result to the accumulation: every step for LPV;
+    /// for ILPV every step but the last (whose light the next frame carries on).
+    fn accumulates(&self, step: usize) -> bool {
+        match self.settings.scheme {
+            Scheme::Lpv => true,
+            Scheme::Ilpv => !self.reads_final() && step + 1 < self.settings.iterations as usize,
+        }
+    }
+
+    /// The lookup's scale for this frame, from the blend weights used (see [`IlpvLookup`]).
+    fn frame_lookup_scale(&self, current_factor: f32) -> f32 {
+        match (self.settings.scheme, self.settings.ilpv_lookup) {
+            (Scheme::Lpv, _) => 1.0,
+            (Scheme::Ilpv, IlpvLookup::Accumulated) => {
+                MEAN_NEIGHBOUR_DISTANCE as f32 / current_factor
+            }
+            (Scheme::Ilpv, IlpvLookup::Final) => {
+                self.settings.iterations.max(1) as f32 / (1.0 - self.settings.incremental)
+            }
+        }
+    }
+
+    /// The ILPV blend weights (previous, current) for this frame: λ̃a = λ_incr E_now / E_before
+    /// and λ̃b = 1 - λ_incr; plain propagation (0, 1) on the first frame or without light.
+    pub fn blend_weights(&self) -> (f32, f32) {
+        let lambda = f64::from(self.settings.incremental);
+        if self.settings.scheme != Scheme::Ilpv
+            || self.frames == 0
+            || self.previous_energy <= 0.0
+            || lambda == 0.0
+        {
+            return (0.0, 1.0);
+        }
+        (
+            (lambda * self.energy / self.previous_energy) as f32,
+            (1.0 - lambda) as f32,
+        )
+    }
+
+    fn record_rsm(&self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()> {
+        let s = &frame.scene;
+        for (view, matrix) in s.shadow_view_matrices.iter().enumerate() {
+            let push = RsmPush {
+                view_projection: matrix.to_cols_array_2d(),
+                light_position: s.shadow_view_origins[view].extend(1.0).to_array(),
+                view: view as u32,
+                size: self.settings.rsm,
+            };
+            let layer = view as u32;
+            rec.raster(&RasterPass {
+                name: &self.names.rsm[view],
+                pipeline: &self.rsm_pipeline,
+                bindings: &[
+                    Binding::read(ids::RASTER_VERTICES, &s.vertices),
+                    Binding::read(ids::RASTER_TRIANGLE_MATERIALS, &s.triangle_materials),
+                    Binding::read(ids::RSM_MATERIALS, &s.materials),
+                    Binding::read(ids::RSM_LIGHTS, &s.lights),
+                    Binding::read(ids::RSM_VIEWS, &s.shadow_views),
+                ],
+                push: bytemuck::bytes_of(&push),
+                color: &[
+                    (&self.rsm_position, layer, [0.0; 4]),
+                    (&self.rsm_normal, layer, [0.0; 4]),
+                    (&self.rsm_flux, layer, [0.0; 4]),
+                ],
+                depth: Some((&self.rsm_depth, 0)),
+                vertex_count: s.vertex_count,
+            })?;
+        }
+        Ok(())
+    }
+
+    fn dims(&self) -> [i32; 4] {
+        let d = self.lattice.dims.as_ivec3();
+        [d.x, d.y, d.z, 0]
+    }
+
+    fn record_inject(&self, rec: &mut Recorder, target: usize, views: u32) -> GpuResult<()> {
+        let [r, g, b] = [0, 1, 2].map(|c| &self.lattices[c][target]);
+        for lattice in [r, g, b] {
+            rec.fill_buffer("clear lattice", lattice, 0);
+        }
+        let mut dims = self.dims();
+        dims[3] = self.settings.rsm as i32;
+        let o = self.lattice.origin;
+        let push = InjectPush {
+            origin_cell: [o.x, o.y, o.z, self.lattice.cell_size],
+            dims,
+            layers: views,
+        };
+        rec.compute(&ComputePass {
+            name: "inject",
+            pipeline: &self.inject_pipeline,
+            bindings: &[
+                Binding::image_read(ids::INJECT_RSM_POSITION, &self.rsm_position),
+                Binding::image_read(ids::INJECT_RSM_NORMAL, &self.rsm_normal),
+                Binding::image_read(ids::INJECT_RSM_FLUX, &self.rsm_flux),
+                Binding::write(ids::INJECT_LATTICE_R, r),
+                Binding::write(ids::INJECT_LATTICE_G, g),
+                Binding::write(ids::INJECT_LATTICE_B, b),
+            ],
+            push: bytemuck::bytes_of(&push),
+            threads: [self.settings.rsm, self.settings.rsm, views],
+        })
+    }
+
+    /// Merge and propagate one colour channel; returns the index of the lattice holding the
+    /// result. `current` holds this frame's injection.
+    fn record_channel(
+        &self,
+        rec: &mut Recorder,
+        channel: usize,
+        current: usize,
+    ) -> GpuResult<usize> {
+        let cells = self.lattice.cell_count() as u32;
+        let pair = &self.lattices[channel];
+        let (previous_factor, current_factor) = self.blend_weights();
+        if previous_factor > 0.0 {
+            let push = MergePush {
+                cells,
+                previous_factor,
+                current_factor,
+            };
+            rec.compute(&ComputePass {
+                name: &self.names.merge[channel],
+                pipeline: &self.merge_pipeline,
+                bindings: &[
+                    Binding::write(ids::MERGE_CURRENT, &pair[current]),
+                    Binding::read(ids::MERGE_PREVIOUS, &pair[1 - current]),
+                ],
+                push: bytemuck::bytes_of(&push),
+                threads: [cells, 1, 1],
+            })?;
+        }
+        self.record_channel_steps(rec, channel, current)
+    }
+
+    /// Start the accumulation with lattice `current` and propagate it; returns the index of the
+    /// lattice holding the last step's result.
+    fn record_channel_steps(
+        &self,
+        rec: &mut Recorder,
+        channel: usize,
+        current: usize,
+    ) -> GpuResult<usize> {
+        let cells = self.lattice.cell_count() as u32;
+        let pair = &self.lattices[channel];
+        if !self.reads_final() {
+            let acc = &self.accumulation[channel];
+            rec.copy_buffer(
+                &self.names.accumulate[channel],
+                &pair[current],
+                acc,
+                acc.size,
+            );
+        }
+        let (absorption, scattering) = self.settings.medium(self.lattice.cell_size);
+        let d = self.lattice.dims;
+        let mut src = current;
+        for step in 0..self.settings.iterations as usize {
+            let use_blocking = if step == 0 && self.settings.first_step_unblocked {
+                0.0
+            } else {
+                1.0
+            };
+            match self.settings.scheme {
+                Scheme::Ilpv => {
+                    if self.settings.clamp_compensation {
+                        rec.compute(&ComputePass {
+                            name: &self.names.compensate[step][channel],
+                            pipeline: &self.compensate_pipeline,
+                            bindings: &[
+                                Binding::write(ids::COMPENSATE_CELLS, &pair[src]),
+                                Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours),
+                            ],
+                            push: bytemuck::bytes_of(&CountPush { count: cells }),
+                            threads: [cells, 1, 1],
+                        })?;
+                    }
+                    let push = IlpvPush {
+                        dims: self.dims(),
+                        keep: (1.0 - absorption - scattering) as f32,
+                        scatter_energy: (sh::SQRT_PI_2 * scattering) as f32,
+                        use_blocking,
+                        accumulate: u32::from(self.accumulates(step)),
+                    };
+                    rec.compute(&ComputePass {
+                        name: &self.names.propagate[step][channel],
+                        pipeline: &self.propagate_pipeline,
+                        bindings: &[
+                            Binding::read(ids::ILPV_SOURCE, &pair[src]),
+                            Binding::write(ids::ILPV_DESTINATION, &pair[1 - src]),
+                            Binding::read(ids::ILPV_GEOMETRY, &self.geometry),
+                            Binding::uniform(ids::ILPV_NEIGHBOURS, &self.neighbours),
+                            Binding::write(ids::ILPV_ACCUMULATION, &self.accumulation[channel]),
+                        ],
+                        push: bytemuck::bytes_of(&push),
+                        threads: self.dispatch_threads([d.x, d.y, d.z]),
+                    })?;
+                }
+                Scheme::Lpv => {
+                    let acc = &self.accumulation[channel];
+                    let push = LpvPush {
+                        dims: self.dims(),
+                        use_blocking,
+                    };
+                    rec.compute(&ComputePass {
+                        name: &self.names.propagate[step][channel],
+                        pipeline: &self.propagate_pipeline,
+                        bindings: &[
+                            Binding::read(ids::LPV_SOURCE, &pair[src]),
+                            Binding::write(ids::LPV_DESTINATION, &pair[1 - src]),
+                            Binding::write(ids::LPV_ACCUMULATION, acc),
+                            Binding::read(ids::LPV_GEOMETRY, &self.geometry),
+                            Binding::uniform(ids::LPV_AXES, &self.axes),
+                        ],
+                        push: bytemuck::bytes_of(&push),
+                        threads: self.dispatch_threads([d.x, d.y, d.z]),
+                    })?;
+                }
+            }
+            src = 1 - src;
+        }
+        Ok(src)
+    }
+
+    /// Replace the contents of the R, G, B lattices that propagation starts from (tests and
+    /// tools: propagate arbitrary lattices with [`Lpv::record_propagation`]).
+    pub fn load_lattices(&mut self, gpu: &Gpu, cells: &[Vec<[f32; 4]>; 3]) -> GpuResult<()> {
+        for (c, data) in cells.iter().enumerate() {
+            gpu.write_buffer(&self.lattices[c][0], bytemuck::cast_slice(data))?;
+        }
+        self.result = 0;
+        Ok(())
+    }
+
+    /// Replace the geometry (blocking) lattice.
+    pub fn load_geometry(&mut self, gpu: &Gpu, cells: &[[f32; 4]]) -> GpuResult<()> {
+        gpu.write_buffer(&self.geometry, bytemuck::cast_slice(cells))
+    }
+
+    /// Propagate the loaded lattices `settings.iterations` steps (no RSM, injection or blend).
+    pub fn record_propagation(&mut self, rec: &mut Recorder) -> GpuResult<()> {
+        let mut result = 0;
+        for channel in 0..3 {
+            result = self.record_channel_steps(rec, channel, 0)?;
+        }
+        self.result = result;
+        Ok(())
+    }
+
+    /// The lattices the lookup would read, per channel.
+    pub fn read_result(&self, gpu: &Gpu) -> GpuResult<[Vec<[f32; 4]>; 3]> {
+        let [r, g, b] = self.result_lattices();
+        let read = |buffer: &Buffer| -> GpuResult<Vec<[f32; 4]>> {
+            Ok(bytemuck::cast_slice(&gpu.read_buffer(buffer)?).to_vec())
+        };
+        Ok([read(r)?, read(g)?, read(b)?])
+    }
+
+    /// Threads to dispatch for a lattice: whole tiles (every tile loads its own halo).
+    fn dispatch_threads(&self, dims: [u32; 3]) -> [u32; 3] {
+        [0, 1, 2].map(|i| dims[i].div_ceil(self.tile[i]) * self.tile[i])
+    }
+}
+
+impl Technique for Lpv {
+    fn record_light(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()> {
+        let views = frame.scene.shadow_view_matrices.len() as u32;
+        // This frame's light goes into the lattice that does not hold last frame's result.
+        let current = if self.settings.scheme == Scheme::Ilpv {
+            1 - self.result
+        } else {
+            0
+        };
+        if views > 0 {
+            self.record_rsm(rec, frame)?;
+        }
+        self.record_inject(rec, current, views)?;
+        let mut result = current;
+        for channel in 0..3 {
+            result = self.record_channel(rec, channel, current)?;
+        }
+        self.lookup_scale = self.frame_lookup_scale(self.blend_weights().1);
+        self.result = result;
+        self.previous_energy = self.energy;
+        self.frames += 1;
+        Ok(())
+    }
+
+    fn record_lookup(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()> {
+        let [r, g, b] = self.result_lattices();
+        let o = self.lattice.origin;
+        let cell = self.lattice.cell_size;
+        let push = LookupPush {
+            origin_cell: [o.x, o.y, o.z, cell],
+            dims: self.dims(),
+            size: [frame.options.width, frame.options.height],
+            scale: self.lookup_scale / (std::f32::consts::PI * cell * cell),
+        };
+        let gb = &frame.gbuffer;
+        rec.compute(&ComputePass {
+            name: "lpv lookup",
+            pipeline: &self.lookup_pipeline,
+            bindings: &[
+                Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
+                Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
+                Binding::image_read(ids::LOOKUP_GBUFFER_ALBEDO, &gb.albedo),
+                Binding::read(ids::LOOKUP_LATTICE_R, r),
+                Binding::read(ids::LOOKUP_LATTICE_G, g),
+                Binding::read(ids::LOOKUP_LATTICE_B, b),
+                Binding::image_write(ids::LOOKUP_HDR, &frame.hdr),
+            ],
+            push: bytemuck::bytes_of(&push),
+            threads: [frame.options.width, frame.options.height, 1],
+        })
+    }
+
+    fn describe(&self) -> Vec<String> {
+        let d = self.lattice.dims;
+        let kernel = if self.settings.tiled {
+            format!(
+                "tiled {}x{}x{} (shared {} of {} bytes, z padded by {Z_PAD})",
+                self.tile[0],
+                self.tile[1],
+                self.tile[2],
+                tile_shared_bytes(self.tile),
+                self.device_shared_bytes
+            )
+        } else {
+            format!(
+                "naive (global memory, workgroup {}x{}x{})",
+                self.tile[0], self.tile[1], self.tile[2]
+            )
+        };
+        vec![
+            format!(
+                "{:?}: lattice {}x{}x{} cells of {:.4} (scene units), {} steps, λ_incr {}, κ {:.6}",
+                self.settings.scheme,
+                d.x,
+                d.y,
+                d.z,
+                self.lattice.cell_size,
+                self.settings.iterations,
+                self.settings.incremental,
+                self.transfer.kappa
+            ),
+            format!("propagation kernel: {kernel}"),
+        ]
+    }
+}
