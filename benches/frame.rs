@@ -33,12 +33,16 @@ fn main() -> anyhow::Result<()> {
     let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2)?;
     // Warm-up frames are not measured.
     for _ in 0..3 {
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec, None))?;
+        ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
+            frame.record(rec, None)
+        })?;
     }
     ring.finish()?;
     ring.profiler.clear();
     for _ in 0..frames {
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec, None))?;
+        ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
+            frame.record(rec, None)
+        })?;
     }
     ring.finish()?;
     println!("cornell {width}x{height}, {frames} frames");

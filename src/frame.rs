@@ -2,12 +2,15 @@
 //! -> direct lighting -> GI lookup -> tone mapping. Every pass of a raster frame is recorded
 //! here, in order; a GI technique (src/gi/) adds its passes at the two marked points.
 
+use std::cell::Cell;
+
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 
 use crate::error::InputError;
 use crate::gi::Technique;
+use crate::gpu::frames::{FrameRing, SemaphoreWait, TimelineSemaphore};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc, RasterPass,
     RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
@@ -30,6 +33,7 @@ pub struct FrameOptions {
     pub shadow_map_size: u32,
     /// Leave direct light and emission out of the HDR image (to score indirect light alone).
     pub indirect_only: bool,
+    pub channel_plan: ChannelPlan,
 }
 
 impl Default for FrameOptions {
@@ -40,6 +44,7 @@ impl Default for FrameOptions {
             exposure_ev: 0.0,
             shadow_map_size: 1024,
             indirect_only: false,
+            channel_plan: ChannelPlan::Auto,
         }
     }
 }
@@ -93,6 +98,27 @@ pub struct Frame {
     pub ldr: Image,
     view_projection: Mat4,
     camera_position: Vec3,
+    /// Semaphores joining the per-channel submissions (async plan only).
+    channel_sync: Option<ChannelSync>,
+}
+
+/// How a frame submits a GI technique's colour-channel work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum ChannelPlan {
+    /// Async when the device has three compute queues for the channels, else sequential.
+    Auto,
+    /// One command buffer on the graphics queue: the channels run one after another.
+    Sequential,
+    /// One submission per channel on its compute queue, joined with timeline semaphores. On a
+    /// device with one queue the submissions still go through the semaphores, in sequence.
+    Async,
+}
+
+/// Timeline semaphores of the async channel plan: "light injected" and "channel c done".
+struct ChannelSync {
+    light_ready: TimelineSemaphore,
+    channel_done: [TimelineSemaphore; 3],
+    next: Cell<u64>,
 }
 
 /// Check an image size against vkgi's and the device's limits.
@@ -232,7 +258,26 @@ impl Frame {
         ))?;
 
         let aspect = w as f32 / h as f32;
+        let asynchronous = match options.channel_plan {
+            ChannelPlan::Auto => gpu.queues.has_async_channels(),
+            ChannelPlan::Sequential => false,
+            ChannelPlan::Async => true,
+        };
+        let channel_sync = if asynchronous {
+            Some(ChannelSync {
+                light_ready: TimelineSemaphore::new(gpu, 0)?,
+                channel_done: [
+                    TimelineSemaphore::new(gpu, 0)?,
+                    TimelineSemaphore::new(gpu, 0)?,
+                    TimelineSemaphore::new(gpu, 0)?,
+                ],
+                next: Cell::new(0),
+            })
+        } else {
+            None
+        };
         Ok(Frame {
+            channel_sync,
             options,
             scene: scene_buffers,
             shadow_pipeline,
@@ -348,18 +393,84 @@ impl Frame {
         })
     }
 
-    /// The whole frame, in order, with a GI technique's passes if there is one.
+    /// The whole frame in one command buffer, in order, with a GI technique's passes if there
+    /// is one (its colour channels one after another).
     pub fn record(&self, rec: &mut Recorder, mut gi: Option<&mut dyn Technique>) -> GpuResult<()> {
         self.record_shadows(rec)?;
         self.record_gbuffer(rec)?;
         if let Some(gi) = gi.as_deref_mut() {
             gi.record_light(rec, self)?;
+            for channel in 0..3 {
+                gi.record_channel(rec, channel)?;
+            }
         }
         self.record_direct_lighting(rec)?;
         if let Some(gi) = gi {
             gi.record_lookup(rec, self)?;
         }
         self.record_tonemap(rec)
+    }
+
+    /// Record and submit one frame. With the async channel plan and a technique, the frame is
+    /// five submissions: shadows, G-buffer and the technique's light on the graphics queue; each
+    /// colour channel on its compute queue once that is done; then direct lighting, the lookup
+    /// and tone mapping on the graphics queue once all three channels are done, joined by
+    /// timeline semaphores. Otherwise it is one command buffer on the graphics queue.
+    pub fn submit(
+        &self,
+        gpu: &Gpu,
+        ring: &mut FrameRing,
+        gi: Option<&mut dyn Technique>,
+    ) -> GpuResult<()> {
+        let graphics = gpu.queues.graphics;
+        let (gi, sync) = match (gi, &self.channel_sync) {
+            (Some(gi), Some(sync)) => (gi, sync),
+            (gi, _) => return ring.submit_frame(gpu, &graphics, &[], |rec| self.record(rec, gi)),
+        };
+        let value = sync.next.get() + 1;
+        sync.next.set(value);
+        let after = |s: &TimelineSemaphore| SemaphoreWait {
+            semaphore: s.raw,
+            value,
+            stage: vk::PipelineStageFlags2::ALL_COMMANDS,
+        };
+        let mut frame = ring.begin_frame()?;
+        frame.submit(
+            gpu,
+            &graphics,
+            &[],
+            &[(sync.light_ready.raw, value)],
+            |rec| {
+                self.record_shadows(rec)?;
+                self.record_gbuffer(rec)?;
+                gi.record_light(rec, self)
+            },
+        )?;
+        for (channel, done) in sync.channel_done.iter().enumerate() {
+            let queue = gpu.queues.channel_compute[channel];
+            frame.submit(
+                gpu,
+                &queue,
+                &[after(&sync.light_ready)],
+                &[(done.raw, value)],
+                |rec| gi.record_channel(rec, channel),
+            )?;
+        }
+        let waits = sync.channel_done.each_ref().map(after);
+        frame.finish(gpu, &graphics, &waits, |rec| {
+            self.record_direct_lighting(rec)?;
+            gi.record_lookup(rec, self)?;
+            self.record_tonemap(rec)
+        })
+    }
+
+    /// How this frame submits colour channels (after resolving `ChannelPlan::Auto`).
+    pub fn channel_plan(&self) -> ChannelPlan {
+        if self.channel_sync.is_some() {
+            ChannelPlan::Async
+        } else {
+            ChannelPlan::Sequential
+        }
     }
 
     /// The linear HDR radiance, RGB per pixel, row-major from the top-left.

@@ -32,8 +32,10 @@ fn every_recorded_pass_gets_one_positive_time_per_frame() {
     let frame = small_frame(&gpu);
     let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
     for _ in 0..5 {
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec, None))
-            .unwrap();
+        ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
+            frame.record(rec, None)
+        })
+        .unwrap();
     }
     ring.finish().unwrap();
     common::assert_no_validation_errors(&gpu);
@@ -73,8 +75,10 @@ fn reading_every_frame_for_100_frames_collects_them_all() {
     let frame = small_frame(&gpu);
     let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
     for n in 0..100u64 {
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec, None))
-            .unwrap();
+        ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
+            frame.record(rec, None)
+        })
+        .unwrap();
         // Each submission reads the slot it reuses: all frames but the last two are in.
         assert_eq!(ring.profiler.frames_collected(), n.saturating_sub(1));
     }
@@ -100,8 +104,10 @@ fn collecting_an_unfinished_frame_returns_at_once_instead_of_waiting() {
         value: 1,
         stage: vk::PipelineStageFlags2::ALL_COMMANDS,
     };
-    ring.submit_frame(&gpu, &[wait], |rec| frame.record(rec, None))
-        .unwrap();
+    ring.submit_frame(&gpu, &gpu.queues.graphics, &[wait], |rec| {
+        frame.record(rec, None)
+    })
+    .unwrap();
     let (slot, fence) = ring.last_submitted().unwrap();
     for _ in 0..3 {
         assert!(

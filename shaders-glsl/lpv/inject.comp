@@ -20,6 +20,7 @@ layout(push_constant) uniform Push {
     vec4 origin_cell;  // xyz lattice origin, w cell size
     ivec4 dims;        // xyz cells, w = RSM size
     uint layers;
+    float offset;      // along the normal, in cells (the thesis: 0.5)
 } pc;
 
 void main() {
@@ -29,7 +30,7 @@ void main() {
     vec3 flux = imageLoad(rsm_flux, texel).rgb;
     if (position.w == 0.0 || all(equal(flux, vec3(0.0)))) return;
     vec3 n = normalize(imageLoad(rsm_normal, texel).xyz);
-    vec3 p = position.xyz + n * (0.5 * pc.origin_cell.w);
+    vec3 p = position.xyz + n * (pc.offset * pc.origin_cell.w);
     ivec3 cell = ivec3(floor((p - pc.origin_cell.xyz) / pc.origin_cell.w));
     if (!lattice_inside(cell, pc.dims.xyz)) return;
     uint base = 4u * lattice_index(cell, pc.dims.xyz);

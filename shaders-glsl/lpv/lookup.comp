@@ -22,6 +22,7 @@ layout(push_constant) uniform Push {
     ivec4 dims;
     uvec2 size;
     float scale;        // 1 / (pi cell²): intensity per cell -> radiance, times albedo / pi
+    float offset;       // along the normal, in cells (the thesis: 0.5)
 } pc;
 
 void main() {
@@ -31,7 +32,7 @@ void main() {
     if (position.w == 0.0) return;
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
     vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
-    vec3 p = position.xyz + n * (0.5 * pc.origin_cell.w);
+    vec3 p = position.xyz + n * (pc.offset * pc.origin_cell.w);
     vec3 u = (p - pc.origin_cell.xyz) / pc.origin_cell.w - 0.5;
     ivec3 base = ivec3(floor(u));
     vec3 f = u - vec3(base);

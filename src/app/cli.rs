@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand};
 
 use crate::frame::FrameOptions;
+use crate::gi::lpv;
 use crate::gpu::GpuOptions;
 
 #[derive(Parser, Debug)]
@@ -69,6 +70,10 @@ pub struct FrameArgs {
     /// reference's indirect part.
     #[arg(long)]
     pub indirect_only: bool,
+    /// How GI colour channels are submitted: auto (async when the device has 3 compute queues),
+    /// sequential (one command buffer), async (one submission per channel queue).
+    #[arg(long, value_enum, default_value_t = crate::frame::ChannelPlan::Auto)]
+    pub channels: crate::frame::ChannelPlan,
 }
 
 impl FrameArgs {
@@ -79,6 +84,7 @@ impl FrameArgs {
             exposure_ev: self.exposure,
             shadow_map_size: self.shadow_map,
             indirect_only: self.indirect_only,
+            channel_plan: self.channels,
         }
     }
 }
@@ -110,16 +116,16 @@ pub struct GiArgs {
     #[arg(long, value_enum, default_value_t = Method::Ilpv)]
     pub method: Method,
     /// Lattice cells along the scene's longest axis (other axes: as many as the bounds need).
-    #[arg(long, default_value_t = 32)]
+    #[arg(long, default_value_t = lpv::technique::DEFAULT_LATTICE)]
     pub lattice: u32,
     /// Propagation steps per frame.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = lpv::technique::DEFAULT_ITERATIONS)]
     pub iterations: u32,
     /// ILPV's λ_incr: weight of last frame's propagated light (0 = plain propagation).
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = lpv::technique::DEFAULT_INCREMENTAL)]
     pub incremental: f32,
     /// Reflective-shadow-map resolution per light view.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = lpv::technique::DEFAULT_RSM)]
     pub rsm: u32,
     /// Absorption coefficient σa of the medium (ILPV).
     #[arg(long, default_value_t = 0.0)]
@@ -133,6 +139,9 @@ pub struct GiArgs {
     /// The SH lobe a surface sample adds to the geometry (blocking) lattice.
     #[arg(long, value_enum, default_value_t = crate::gi::lpv::geometry::BlockingLobe::TwoSided)]
     pub blocking_lobe: crate::gi::lpv::geometry::BlockingLobe,
+    /// Scale of the geometry lattice (1: a surface filling a cell blocks a face transfer fully).
+    #[arg(long, default_value_t = 1.0)]
+    pub blocking_strength: f32,
     /// Apply blocking in the first step of a frame too (the thesis leaves it out).
     #[arg(long)]
     pub block_first_step: bool,
@@ -142,6 +151,13 @@ pub struct GiArgs {
     /// Propagate with the thesis's global κ only, without per-cell clamp compensation.
     #[arg(long)]
     pub no_clamp_compensation: bool,
+    /// Cells VPLs move along their normal before injection (the thesis: 0.5).
+    #[arg(long, default_value_t = lpv::technique::DEFAULT_INJECT_OFFSET)]
+    pub inject_offset: f32,
+    /// Cells the lookup moves along the surface normal (the thesis: 0.5; default decided by
+    /// the accuracy grid in docs/lpv.md).
+    #[arg(long, default_value_t = lpv::technique::DEFAULT_LOOKUP_OFFSET)]
+    pub lookup_offset: f32,
     /// What the ILPV lookup reads: the accumulated steps, or the thesis's final lattice.
     #[arg(long, value_enum, default_value_t = crate::gi::lpv::technique::IlpvLookup::Accumulated)]
     pub ilpv_lookup: crate::gi::lpv::technique::IlpvLookup,
@@ -172,10 +188,13 @@ impl GiArgs {
             scattering: self.scattering,
             extinction: self.extinction,
             blocking_lobe: self.blocking_lobe,
+            blocking_strength: self.blocking_strength,
             first_step_unblocked: !self.block_first_step,
             tiled: !self.naive,
             clamp_compensation: !self.no_clamp_compensation,
             ilpv_lookup: self.ilpv_lookup,
+            inject_offset: self.inject_offset,
+            lookup_offset: self.lookup_offset,
         })
     }
 }

@@ -39,10 +39,14 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     for line in technique.iter().flat_map(|t| t.describe()) {
         ring.profiler.add_note(line);
     }
+    if technique.is_some() {
+        ring.profiler
+            .add_note(format!("colour channels: {:?} plan", frame.channel_plan()));
+    }
     for _ in 0..frames {
         // Shorten the boxed object's lifetime to this frame's borrow.
         let gi = technique.as_mut().map(|t| t.as_mut() as &mut dyn Technique);
-        ring.submit_frame(&gpu, &[], |rec| frame.record(rec, gi))?;
+        frame.submit(&gpu, &mut ring, gi)?;
     }
     ring.finish()?;
     check_validation(&gpu)?;

@@ -1,6 +1,7 @@
 //! Global-illumination techniques, one module each: persistent GPU state plus per-frame passes.
-//! The frame (src/frame.rs) calls a technique twice: after the G-buffer to compute this frame's
-//! indirect light, and after direct lighting to add it to the HDR image.
+//! The frame (src/frame.rs) calls a technique at three points: after the G-buffer (graphics
+//! queue), once per colour channel (each may run on its own compute queue), and after direct
+//! lighting to add indirect light to the HDR image.
 
 pub mod lpv;
 
@@ -8,10 +9,12 @@ use crate::frame::Frame;
 use crate::gpu::{GpuResult, Recorder};
 
 pub trait Technique {
-    /// The passes that compute this frame's indirect light (after shadows and the G-buffer).
+    /// Passes on the graphics queue after shadows and the G-buffer (e.g. RSM, injection).
     fn record_light(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()>;
-    /// Add indirect radiance to `frame.hdr` (after direct lighting).
+    /// This frame's work for one colour channel (0 = R, 1 = G, 2 = B).
+    fn record_channel(&mut self, rec: &mut Recorder, channel: usize) -> GpuResult<()>;
+    /// Add indirect radiance to `frame.hdr` (after direct lighting and every channel).
     fn record_lookup(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()>;
-    /// Lines for the profile: how the technique ran (lattice, tiles, queue plan...).
+    /// Lines for the profile: how the technique ran (lattice, tiles...).
     fn describe(&self) -> Vec<String>;
 }

@@ -10,9 +10,16 @@ use super::pass::Recorder;
 use super::profiler::{FRAME_SCOPE, Profiler};
 use super::{GpuError, GpuResult, vk_err};
 
-struct Slot {
+/// Command buffers of one queue family, reused frame after frame.
+struct FamilyPool {
+    family: u32,
     pool: vk::CommandPool,
-    cmd: vk::CommandBuffer,
+    buffers: Vec<vk::CommandBuffer>,
+    used: usize,
+}
+
+struct Slot {
+    pools: Vec<FamilyPool>,
     fence: vk::Fence,
     in_flight: bool,
 }
@@ -25,14 +32,23 @@ pub struct SemaphoreWait {
     pub stage: vk::PipelineStageFlags2,
 }
 
-/// Frames in flight on one queue: frame N reuses the command buffer and query pool of frame
-/// N - frames_in_flight only after that frame's fence has signalled.
+/// Frames in flight: frame N reuses the command buffers and query pool of frame
+/// N - frames_in_flight only after that frame's fence has signalled. A frame is one or more
+/// submissions ("parts"), possibly on different queues, ordered by semaphores; the last part
+/// carries the fence, the first resets the frame's timestamp queries.
 pub struct FrameRing {
     shared: Arc<DeviceShared>,
-    queue: Queue,
     slots: Vec<Slot>,
     frame: u64,
     pub profiler: Profiler,
+}
+
+/// A frame being recorded: submit its parts, then [`FrameBuilder::finish`].
+pub struct FrameBuilder<'r> {
+    ring: &'r mut FrameRing,
+    slot: usize,
+    first_part: bool,
+    frame_scope: Option<u32>,
 }
 
 impl FrameRing {
@@ -41,43 +57,20 @@ impl FrameRing {
         let profiler = Profiler::new(gpu, frames_in_flight, &queue)?;
         let mut ring = FrameRing {
             shared: gpu.shared.clone(),
-            queue,
             slots: Vec::new(),
             frame: 0,
             profiler,
         };
-        let device = &gpu.shared.device;
         for _ in 0..frames_in_flight {
-            let pool_info = vk::CommandPoolCreateInfo::default().queue_family_index(queue.family);
             // SAFETY: valid create info; destroyed in Drop.
-            let pool = unsafe { device.create_command_pool(&pool_info, None) }
-                .map_err(vk_err("creating a frame command pool"))?;
-            let alloc = vk::CommandBufferAllocateInfo::default()
-                .command_pool(pool)
-                .level(vk::CommandBufferLevel::PRIMARY)
-                .command_buffer_count(1);
-            // SAFETY: allocating from the pool just created.
-            let cmd = match unsafe { device.allocate_command_buffers(&alloc) } {
-                Ok(c) => c[0],
-                Err(e) => {
-                    // SAFETY: the pool is unused.
-                    unsafe { device.destroy_command_pool(pool, None) };
-                    return Err(vk_err("allocating a frame command buffer")(e));
-                }
-            };
-            // SAFETY: valid create info; destroyed in Drop.
-            let fence = match unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
-            {
-                Ok(f) => f,
-                Err(e) => {
-                    // SAFETY: the pool and its buffer are unused.
-                    unsafe { device.destroy_command_pool(pool, None) };
-                    return Err(vk_err("creating a frame fence")(e));
-                }
-            };
+            let fence = unsafe {
+                gpu.shared
+                    .device
+                    .create_fence(&vk::FenceCreateInfo::default(), None)
+            }
+            .map_err(vk_err("creating a frame fence"))?;
             ring.slots.push(Slot {
-                pool,
-                cmd,
+                pools: Vec::new(),
                 fence,
                 in_flight: false,
             });
@@ -90,12 +83,6 @@ impl FrameRing {
         self.frame
     }
 
-    /// The slot the next frame will use, and the fence of the frame last submitted from it.
-    pub fn next_slot(&self) -> (usize, vk::Fence) {
-        let slot = (self.frame % self.slots.len() as u64) as usize;
-        (slot, self.slots[slot].fence)
-    }
-
     /// The slot and fence of the frame submitted last (None before the first frame).
     pub fn last_submitted(&self) -> Option<(usize, vk::Fence)> {
         let previous = self.frame.checked_sub(1)?;
@@ -103,74 +90,184 @@ impl FrameRing {
         Some((slot, self.slots[slot].fence))
     }
 
-    /// Record and submit one frame. Waits only for the frame that last used this slot (the
-    /// CPU-GPU throttle), then collects its timestamps, which are complete by then.
+    /// Start the next frame. Waits only for the frame that last used this slot (the CPU-GPU
+    /// throttle), then collects its timestamps, which are complete by then.
+    pub fn begin_frame(&mut self) -> GpuResult<FrameBuilder<'_>> {
+        let slot = (self.frame % self.slots.len() as u64) as usize;
+        self.retire(slot)?;
+        let device = &self.shared.device;
+        for family in &mut self.slots[slot].pools {
+            // SAFETY: the slot's previous submissions have completed (retired above).
+            unsafe { device.reset_command_pool(family.pool, vk::CommandPoolResetFlags::empty()) }
+                .map_err(vk_err("resetting a frame command pool"))?;
+            family.used = 0;
+        }
+        Ok(FrameBuilder {
+            ring: self,
+            slot,
+            first_part: true,
+            frame_scope: None,
+        })
+    }
+
+    /// Record and submit a frame of one part on `queue`.
     pub fn submit_frame<F>(
         &mut self,
         gpu: &Gpu,
+        queue: &Queue,
         waits: &[SemaphoreWait],
         record: F,
     ) -> GpuResult<()>
     where
         F: FnOnce(&mut Recorder) -> GpuResult<()>,
     {
-        let (index, fence) = self.next_slot();
-        let device = &self.shared.device;
-        if self.slots[index].in_flight {
-            // SAFETY: waiting on a fence of a submitted frame.
-            unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }
-                .map_err(vk_err("waiting for a frame in flight"))?;
-            self.profiler.collect_if_ready(index, fence)?;
-            // SAFETY: the fence has signalled and is not in use by a pending submission.
-            unsafe { device.reset_fences(&[fence]) }.map_err(vk_err("resetting a frame fence"))?;
-            self.slots[index].in_flight = false;
+        self.begin_frame()?.finish(gpu, queue, waits, record)
+    }
+
+    /// Wait for a slot's frame if it is in flight and collect its timestamps.
+    fn retire(&mut self, slot: usize) -> GpuResult<()> {
+        if !self.slots[slot].in_flight {
+            return Ok(());
         }
-        let slot = &self.slots[index];
-        // SAFETY: the slot's previous submission has completed, so the pool may be reset.
-        unsafe { device.reset_command_pool(slot.pool, vk::CommandPoolResetFlags::empty()) }
-            .map_err(vk_err("resetting a frame command pool"))?;
-        let begin = vk::CommandBufferBeginInfo::default()
-            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-        // SAFETY: the command buffer is in the initial state after the pool reset.
-        unsafe { device.begin_command_buffer(slot.cmd, &begin) }
-            .map_err(vk_err("beginning a frame command buffer"))?;
-        let cmd = slot.cmd;
-        let timer = self.profiler.begin_frame(index, self.frame, cmd);
-        let mut recorder = Recorder::new(gpu, cmd, timer);
-        let frame_scope = recorder.begin_scope(FRAME_SCOPE);
-        let recorded = record(&mut recorder);
-        recorder.end_scope(frame_scope);
-        // SAFETY: ends the recording begun above (also after a recording error, so the command
-        // buffer leaves the recording state; it is then not submitted).
-        let ended = unsafe { device.end_command_buffer(cmd) };
-        recorded?;
-        ended.map_err(vk_err("ending a frame command buffer"))?;
-        submit(device, &self.queue, cmd, waits, &[], fence)?;
-        self.slots[index].in_flight = true;
-        self.frame += 1;
+        let device = &self.shared.device;
+        let fence = self.slots[slot].fence;
+        // SAFETY: waiting on the fence of a submitted frame.
+        unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }
+            .map_err(vk_err("waiting for a frame in flight"))?;
+        self.profiler.collect_if_ready(slot, fence)?;
+        // SAFETY: the fence has signalled and no pending submission uses it.
+        unsafe { device.reset_fences(&[fence]) }.map_err(vk_err("resetting a frame fence"))?;
+        self.slots[slot].in_flight = false;
         Ok(())
     }
 
     /// Wait for every frame in flight and collect their timestamps.
     pub fn finish(&mut self) -> GpuResult<()> {
-        let device = &self.shared.device;
         let count = self.slots.len() as u64;
         // Oldest first, so samples stay in frame order.
         for k in 0..count {
-            let index = ((self.frame + k) % count) as usize;
-            if !self.slots[index].in_flight {
-                continue;
-            }
-            let fence = self.slots[index].fence;
-            // SAFETY: waiting on a fence of a submitted frame.
-            unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }
-                .map_err(vk_err("waiting for the last frames"))?;
-            self.profiler.collect_if_ready(index, fence)?;
-            // SAFETY: signalled and not in use.
-            unsafe { device.reset_fences(&[fence]) }.map_err(vk_err("resetting a frame fence"))?;
-            self.slots[index].in_flight = false;
+            self.retire(((self.frame + k) % count) as usize)?;
         }
         Ok(())
+    }
+
+    /// A command buffer of `family` from the slot's pool, in the recording state.
+    fn command_buffer(&mut self, slot: usize, family: u32) -> GpuResult<vk::CommandBuffer> {
+        let device = &self.shared.device;
+        let pools = &mut self.slots[slot].pools;
+        let index = match pools.iter().position(|p| p.family == family) {
+            Some(i) => i,
+            None => {
+                let info = vk::CommandPoolCreateInfo::default().queue_family_index(family);
+                // SAFETY: valid create info; destroyed in Drop.
+                let pool = unsafe { device.create_command_pool(&info, None) }
+                    .map_err(vk_err("creating a frame command pool"))?;
+                pools.push(FamilyPool {
+                    family,
+                    pool,
+                    buffers: Vec::new(),
+                    used: 0,
+                });
+                pools.len() - 1
+            }
+        };
+        let family_pool = &mut pools[index];
+        if family_pool.used == family_pool.buffers.len() {
+            let alloc = vk::CommandBufferAllocateInfo::default()
+                .command_pool(family_pool.pool)
+                .level(vk::CommandBufferLevel::PRIMARY)
+                .command_buffer_count(1);
+            // SAFETY: allocating from a pool of this slot, used only from this thread.
+            let cmd = unsafe { device.allocate_command_buffers(&alloc) }
+                .map_err(vk_err("allocating a frame command buffer"))?[0];
+            family_pool.buffers.push(cmd);
+        }
+        let cmd = family_pool.buffers[family_pool.used];
+        family_pool.used += 1;
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: the pool was reset, so the command buffer is in the initial state.
+        unsafe { device.begin_command_buffer(cmd, &begin) }
+            .map_err(vk_err("beginning a frame command buffer"))?;
+        Ok(cmd)
+    }
+}
+
+impl FrameBuilder<'_> {
+    /// Record one part of the frame and submit it to `queue` after `waits`, signalling
+    /// `signals` when done.
+    pub fn submit<F>(
+        &mut self,
+        gpu: &Gpu,
+        queue: &Queue,
+        waits: &[SemaphoreWait],
+        signals: &[(vk::Semaphore, u64)],
+        record: F,
+    ) -> GpuResult<()>
+    where
+        F: FnOnce(&mut Recorder) -> GpuResult<()>,
+    {
+        self.part(gpu, queue, waits, signals, false, record)
+    }
+
+    /// Record and submit the frame's last part, which carries the frame's fence.
+    pub fn finish<F>(
+        mut self,
+        gpu: &Gpu,
+        queue: &Queue,
+        waits: &[SemaphoreWait],
+        record: F,
+    ) -> GpuResult<()>
+    where
+        F: FnOnce(&mut Recorder) -> GpuResult<()>,
+    {
+        self.part(gpu, queue, waits, &[], true, record)?;
+        self.ring.slots[self.slot].in_flight = true;
+        self.ring.frame += 1;
+        Ok(())
+    }
+
+    fn part<F>(
+        &mut self,
+        gpu: &Gpu,
+        queue: &Queue,
+        waits: &[SemaphoreWait],
+        signals: &[(vk::Semaphore, u64)],
+        last: bool,
+        record: F,
+    ) -> GpuResult<()>
+    where
+        F: FnOnce(&mut Recorder) -> GpuResult<()>,
+    {
+        let cmd = self.ring.command_buffer(self.slot, queue.family)?;
+        let frame = self.ring.frame;
+        let slot = self.slot;
+        let timer = if self.first_part {
+            self.ring.profiler.begin_frame(slot, frame, cmd)
+        } else {
+            self.ring.profiler.frame_queries(slot)
+        };
+        let mut recorder = Recorder::new(gpu, cmd, timer);
+        if self.first_part {
+            self.frame_scope = recorder.begin_scope(FRAME_SCOPE);
+            self.first_part = false;
+        }
+        let recorded = record(&mut recorder);
+        if last {
+            recorder.end_scope(self.frame_scope);
+        }
+        let device = &self.ring.shared.device;
+        // SAFETY: ends the recording begun in command_buffer (also after a recording error, so
+        // the command buffer leaves the recording state; it is then not submitted).
+        let ended = unsafe { device.end_command_buffer(cmd) };
+        recorded?;
+        ended.map_err(vk_err("ending a frame command buffer"))?;
+        let fence = if last {
+            self.ring.slots[slot].fence
+        } else {
+            vk::Fence::null()
+        };
+        submit(device, queue, cmd, waits, signals, fence)
     }
 }
 
@@ -184,7 +281,9 @@ impl Drop for FrameRing {
                     let _ = device.wait_for_fences(&[slot.fence], true, u64::MAX);
                 }
                 device.destroy_fence(slot.fence, None);
-                device.destroy_command_pool(slot.pool, None);
+                for family in &slot.pools {
+                    device.destroy_command_pool(family.pool, None);
+                }
             }
         }
     }

@@ -198,6 +198,14 @@ impl Profiler {
         Some(queries)
     }
 
+    /// The queries of the frame being recorded in `slot`, for a later part of that frame.
+    pub fn frame_queries(&mut self, slot: usize) -> Option<&mut FrameQueries> {
+        if !self.enabled || self.slot_frame[slot].is_none() {
+            return None;
+        }
+        Some(&mut self.slots[slot])
+    }
+
     /// Collect `slot` if `fence` (the fence of the slot's frame) has signalled; returns whether
     /// results were collected. Never waits: an unsignalled fence means "try later".
     pub fn collect_if_ready(&mut self, slot: usize, fence: vk::Fence) -> GpuResult<bool> {

@@ -38,8 +38,10 @@ pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Frame, Vec<
     )
     .expect("frame");
     let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("frame ring");
-    ring.submit_frame(gpu, &[], |rec| frame.record(rec, None))
-        .expect("frame");
+    ring.submit_frame(gpu, &gpu.queues.graphics, &[], |rec| {
+        frame.record(rec, None)
+    })
+    .expect("frame");
     ring.finish().expect("finish");
     let hdr = frame.read_hdr(gpu).expect("readback");
     (frame, hdr)
@@ -174,4 +176,36 @@ pub fn plane_under_point_light(albedo: f32, flux: f32) -> Scene {
         vfov_deg: 50.0,
     };
     Scene::new("plane".into(), mesh, vec![material], vec![light], camera).unwrap()
+}
+
+/// Render `frames` frames of `scene` with LPV `settings` and return the linear HDR pixels.
+pub fn render_gi(
+    gpu: &Gpu,
+    scene: &Scene,
+    settings: vkgi::gi::lpv::LpvSettings,
+    options: FrameOptions,
+    frames: u32,
+) -> Vec<[f32; 3]> {
+    let frame = Frame::new(gpu, scene, options).expect("frame");
+    let mut lpv = vkgi::gi::lpv::Lpv::new(gpu, scene, settings).expect("lpv");
+    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("frame ring");
+    for _ in 0..frames {
+        frame.submit(gpu, &mut ring, Some(&mut lpv)).expect("frame");
+    }
+    ring.finish().expect("finish");
+    frame.read_hdr(gpu).expect("readback")
+}
+
+/// Frame options for an indirect-only image of the given size.
+pub fn indirect_only(width: u32, height: u32) -> FrameOptions {
+    FrameOptions {
+        width,
+        height,
+        indirect_only: true,
+        ..FrameOptions::default()
+    }
+}
+
+pub fn mean(pixels: &[[f32; 3]]) -> f64 {
+    pixels.iter().map(|p| f64::from(luminance(*p))).sum::<f64>() / pixels.len() as f64
 }

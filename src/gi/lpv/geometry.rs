@@ -26,6 +26,8 @@ pub enum BlockingLobe {
     Back,
     /// Both: blocks either way, whatever the winding.
     TwoSided,
+    /// No blocking at all (no indirect shadows; for comparison).
+    None,
 }
 
 /// Samples per unit of `area / cell area` (the thesis leaves the density open; ≥ 1 per
@@ -80,6 +82,7 @@ pub fn build(
             BlockingLobe::Front => sh::cosine_lobe(normal),
             BlockingLobe::Back => sh::cosine_lobe(-normal),
             BlockingLobe::TwoSided => sh::cosine_lobe(normal) + sh::cosine_lobe(-normal),
+            BlockingLobe::None => return cells,
         };
         let samples =
             ((SAMPLES_PER_CELL_AREA * area / d2).ceil() as u64).clamp(1, MAX_SAMPLES_PER_TRIANGLE);
