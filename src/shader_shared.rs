@@ -90,6 +90,10 @@ shared_constants! {
     LOOKUP_LATTICE_B: u32 = 5;
     LOOKUP_HDR: u32 = 6;
 
+    // ---- device-limit probes ----
+    LIMITS_SOURCE: u32 = 0;
+    LIMITS_DESTINATION: u32 = 1;
+
     // ---- lights ----
     LIGHT_KIND_SPOT: u32 = 0;
     LIGHT_KIND_POINT: u32 = 1;

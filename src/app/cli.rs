@@ -31,6 +31,11 @@ pub enum Command {
     Reference(ReferenceArgs),
     /// Error metrics (RMSE, relMSE, MAE, FLIP) of a linear HDR image against a reference.
     Compare(CompareArgs),
+    /// Per-pass GPU time of LPV and ILPV per lattice size, against the device's limits.
+    Profile(ProfileCommandArgs),
+    /// Every GI method over a grid of settings, scored against the cached reference: speed
+    /// against error as report.md, report.json, plots and an image strip.
+    Report(ReportArgs),
 }
 
 /// Which GPU, and whether to validate.
@@ -275,6 +280,78 @@ pub struct CompareArgs {
     /// Write the FLIP error map as a heat map PNG.
     #[arg(long, value_name = "PNG")]
     pub heatmap: Option<PathBuf>,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ProfileCommandArgs {
+    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Methods to profile, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [lpv::Scheme::Lpv, lpv::Scheme::Ilpv])]
+    pub method: Vec<lpv::Scheme>,
+    /// Lattice sizes (cells along the longest axis), comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [8, 16, 32, 64])]
+    pub lattice: Vec<u32>,
+    /// Propagation steps per frame.
+    #[arg(long, default_value_t = lpv::technique::DEFAULT_ITERATIONS)]
+    pub iterations: u32,
+    /// Measured frames per configuration.
+    #[arg(long, default_value_t = 10)]
+    pub frames: u32,
+    /// Frames run before measuring.
+    #[arg(long, default_value_t = 2)]
+    pub warmup: u32,
+    /// Image size as WIDTHxHEIGHT (the lookup and raster passes scale with it).
+    #[arg(long, default_value = "320x240", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// How colour channels are submitted (see `render --channels`).
+    #[arg(long, value_enum, default_value_t = crate::frame::ChannelPlan::Auto)]
+    pub channels: crate::frame::ChannelPlan,
+    /// Profile the naive global-memory propagation kernel instead of the tiled one.
+    #[arg(long)]
+    pub naive: bool,
+    /// Write the profile as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Write one CSV line per pass.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct ReportArgs {
+    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Folder for report.md, report.json, the plots, images/ and the cached reference.
+    #[arg(long, value_name = "DIR")]
+    pub out_dir: PathBuf,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "160x120", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Samples per pixel of the reference (bounces 1, reused when cached in DIR).
+    #[arg(long, default_value_t = 1024)]
+    pub spp: u32,
+    /// Methods, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [lpv::Scheme::Lpv, lpv::Scheme::Ilpv])]
+    pub method: Vec<lpv::Scheme>,
+    /// Lattice sizes, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [8, 16, 32])]
+    pub lattice: Vec<u32>,
+    /// Propagation steps per frame, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [4, 8, 16, 32])]
+    pub iterations: Vec<u32>,
+    /// ILPV λ_incr values, comma-separated.
+    #[arg(long, value_delimiter = ',', default_values_t = [0.5, 0.9])]
+    pub incremental: Vec<f32>,
+    /// Frames per ILPV run (default: until the blend settles, λ^frames < 1%).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
 }
 
 /// Parse `WIDTHxHEIGHT` (range checks happen against the device later).

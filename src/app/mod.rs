@@ -2,9 +2,12 @@
 
 pub mod cli;
 mod compare;
+pub mod limits;
 mod output;
+pub mod profile;
 mod reference;
 pub mod render;
+pub mod report;
 
 pub use cli::{Cli, Command};
 
@@ -14,6 +17,8 @@ pub fn run(command: &Command) -> anyhow::Result<()> {
         Command::Render(args) => render::run(args),
         Command::Reference(args) => reference::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Profile(args) => profile::run_command(args),
+        Command::Report(args) => report::run_command(args),
     }
 }
 

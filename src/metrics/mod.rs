@@ -4,6 +4,8 @@
 //! way vkgi's PNGs are: Reinhard L/(1+L) and sRGB). An optional mask restricts every metric to
 //! the pixels a method models.
 
+pub mod plot;
+
 use serde::Serialize;
 
 use crate::error::InputError;

@@ -329,14 +329,22 @@ pub struct ProgressBar {
     start: Instant,
     enabled: bool,
     label: String,
+    unit: &'static str,
 }
 
 impl ProgressBar {
+    /// A bar counting samples per pixel.
     pub fn new(label: &str) -> Self {
+        Self::counting(label, "spp")
+    }
+
+    /// A bar counting `unit`s (runs, configurations...).
+    pub fn counting(label: &str, unit: &'static str) -> Self {
         ProgressBar {
             start: Instant::now(),
             enabled: std::io::stderr().is_terminal(),
             label: label.to_string(),
+            unit,
         }
     }
 
@@ -356,11 +364,12 @@ impl ProgressBar {
         let mut err = std::io::stderr();
         let _ = write!(
             err,
-            "\r{} [{}{}] {:5.1}% {done}/{total} spp  {elapsed:.1} s, ETA {eta:.1} s ",
+            "\r{} [{}{}] {:5.1}% {done}/{total} {}  {elapsed:.1} s, ETA {eta:.1} s ",
             self.label,
             "#".repeat(filled),
             "-".repeat(width - filled),
-            100.0 * fraction
+            100.0 * fraction,
+            self.unit
         );
         if done >= total {
             let _ = writeln!(err);

@@ -2,6 +2,7 @@
 //! seed 000's incremental 26-neighbour ILPV, sharing RSM injection, the fitted lattice, the
 //! geometry lattice and the lookup.
 
+pub mod cost;
 pub mod cpu;
 pub mod geometry;
 pub mod lattice;

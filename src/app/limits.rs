@@ -1,0 +1,125 @@
+//! The device's achievable limits, measured with micro-kernels and the same timestamp profiler
+//! as every pass: memory bandwidth (a vec4 copy) and arithmetic rate (vec4 FMA chains).
+
+use bytemuck::{Pod, Zeroable};
+use serde::Serialize;
+
+use crate::gpu::frames::FrameRing;
+use crate::gpu::{Binding, BufferDesc, ComputePass, ComputePipeline, Gpu, Specialization};
+use crate::shader_shared as ids;
+use crate::shaders;
+
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct DeviceLimits {
+    /// Bytes moved per nanosecond (read + write) by the copy kernel.
+    pub bandwidth_bytes_per_ns: f64,
+    /// Floating-point operations per nanosecond of the FMA kernel.
+    pub flops_per_ns: f64,
+}
+
+impl DeviceLimits {
+    /// The shortest time a step moving `bytes` and computing `flops` can take (ns).
+    pub fn bound_ns(&self, bytes: f64, flops: f64) -> f64 {
+        (bytes / self.bandwidth_bytes_per_ns).max(flops / self.flops_per_ns)
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct CopyPush {
+    count: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FmaPush {
+    count: u32,
+    iterations: u32,
+}
+
+/// Runs per probe; the median is used.
+const RUNS: u32 = 5;
+/// Probes grow until one run takes at least this long, so timer resolution does not matter.
+const MIN_RUN_NS: f64 = 2e6;
+
+/// Median GPU time (ns) of `RUNS` runs of `record`.
+fn median_ns(
+    gpu: &Gpu,
+    name: &str,
+    record: &dyn Fn(&mut crate::gpu::Recorder) -> crate::gpu::GpuResult<()>,
+) -> anyhow::Result<f64> {
+    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2)?;
+    for _ in 0..RUNS {
+        ring.submit_frame(gpu, &gpu.queues.graphics, &[], record)?;
+    }
+    ring.finish()?;
+    let report = ring.profiler.report();
+    report
+        .passes
+        .iter()
+        .find(|p| p.name == name)
+        .map(|p| p.median_ns)
+        .filter(|t| *t > 0.0)
+        .ok_or_else(|| anyhow::anyhow!("the {name} probe produced no timestamps"))
+}
+
+/// Measure the device's bandwidth and arithmetic rate.
+pub fn measure(gpu: &Gpu) -> anyhow::Result<DeviceLimits> {
+    let none = Specialization::new();
+    let copy = ComputePipeline::new(gpu, "bandwidth probe", shaders::LIMITS_COPY_COMP, &none)?;
+    let fma = ComputePipeline::new(gpu, "arithmetic probe", shaders::LIMITS_FMA_COMP, &none)?;
+    let limit = u64::from(gpu.info.max_storage_buffer_range).min(1 << 28);
+
+    let mut count: u64 = 1 << 18;
+    let bandwidth = loop {
+        let bytes = count * 16;
+        let source = gpu.create_buffer(&BufferDesc::storage("probe source", bytes))?;
+        let destination = gpu.create_buffer(&BufferDesc::storage("probe destination", bytes))?;
+        let push = CopyPush {
+            count: count as u32,
+        };
+        let ns = median_ns(gpu, "bandwidth probe", &|rec| {
+            rec.compute(&ComputePass {
+                name: "bandwidth probe",
+                pipeline: &copy,
+                bindings: &[
+                    Binding::read(ids::LIMITS_SOURCE, &source),
+                    Binding::write(ids::LIMITS_DESTINATION, &destination),
+                ],
+                push: bytemuck::bytes_of(&push),
+                threads: [count as u32, 1, 1],
+            })
+        })?;
+        if ns >= MIN_RUN_NS || bytes * 4 > limit {
+            break 2.0 * bytes as f64 / ns;
+        }
+        count *= 4;
+    };
+
+    let count: u32 = 1 << 16;
+    let destination =
+        gpu.create_buffer(&BufferDesc::storage("probe output", u64::from(count) * 16))?;
+    let mut iterations: u32 = 64;
+    let rate = loop {
+        let push = FmaPush { count, iterations };
+        let ns = median_ns(gpu, "arithmetic probe", &|rec| {
+            rec.compute(&ComputePass {
+                name: "arithmetic probe",
+                pipeline: &fma,
+                bindings: &[Binding::write(ids::LIMITS_DESTINATION, &destination)],
+                push: bytemuck::bytes_of(&push),
+                threads: [count, 1, 1],
+            })
+        })?;
+        // 4 chains x 4 components x 2 flops per iteration.
+        let flops = f64::from(count) * f64::from(iterations) * 32.0;
+        if ns >= MIN_RUN_NS || iterations >= 1 << 20 {
+            break flops / ns;
+        }
+        iterations *= 4;
+    };
+    Ok(DeviceLimits {
+        bandwidth_bytes_per_ns: bandwidth,
+        flops_per_ns: rate,
+    })
+}

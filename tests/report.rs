@@ -1,0 +1,174 @@
+//! `vkgi profile` and `vkgi report` end to end on lavapipe, validation on, at tiny sizes.
+
+use std::collections::HashSet;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn vkgi(args: &[&str]) -> std::process::Output {
+    let output = Command::new(env!("CARGO_BIN_EXE_vkgi"))
+        .args(args)
+        .env("VKGI_VALIDATE", "1")
+        .output()
+        .expect("the vkgi binary runs");
+    assert!(
+        output.status.success(),
+        "vkgi {args:?} failed: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("vkgi-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
+    let dir = scratch("profile");
+    let json = dir.join("profile.json");
+    let csv = dir.join("profile.csv");
+    let output = vkgi(&[
+        "profile",
+        "--lattice",
+        "4,8",
+        "--iterations",
+        "2",
+        "--frames",
+        "2",
+        "--warmup",
+        "1",
+        "--size",
+        "32x24",
+        "--json",
+        json.to_str().unwrap(),
+        "--csv",
+        csv.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(
+        stdout.contains("device limits") && stdout.contains("scaling Ilpv"),
+        "{stdout}"
+    );
+    let profile: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let passes = profile["passes"].as_array().unwrap();
+    let mut seen = HashSet::new();
+    for p in passes {
+        let key = (
+            p["method"].to_string(),
+            p["lattice"].as_u64().unwrap(),
+            p["pass"].as_str().unwrap().to_string(),
+        );
+        assert!(seen.insert(key.clone()), "duplicate entry {key:?}");
+        assert!(p["median_ns"].as_f64().unwrap() > 0.0, "{p}");
+        assert!(p["min_ns"].as_f64().unwrap() > 0.0, "{p}");
+    }
+    for method in ["\"Lpv\"", "\"Ilpv\""] {
+        for lattice in [4, 8] {
+            let names: HashSet<&str> = seen
+                .iter()
+                .filter(|(m, l, _)| m == method && *l == lattice)
+                .map(|(_, _, p)| p.as_str())
+                .collect();
+            for pass in [
+                "rsm view 0",
+                "inject",
+                "propagate R step 1",
+                "propagate B step 2",
+                "lpv lookup",
+                "frame",
+            ] {
+                assert!(
+                    names.contains(pass),
+                    "{method} {lattice}: no '{pass}' in {names:?}"
+                );
+            }
+        }
+    }
+    assert!(
+        profile["limits"]["bandwidth_bytes_per_ns"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    assert!(profile["limits"]["flops_per_ns"].as_f64().unwrap() > 0.0);
+    for s in profile["scaling"].as_array().unwrap() {
+        assert!(s["exponent"].as_f64().unwrap().is_finite());
+    }
+    assert_eq!(
+        std::fs::read_to_string(&csv).unwrap().lines().count(),
+        passes.len() + 1
+    );
+}
+
+#[test]
+fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
+    let dir = scratch("report");
+    let args = [
+        "report",
+        "--out-dir",
+        dir.to_str().unwrap(),
+        "--size",
+        "32x24",
+        "--spp",
+        "8",
+        "--lattice",
+        "4",
+        "--iterations",
+        "1,2",
+        "--incremental",
+        "0.5",
+        "--frames",
+        "2",
+    ];
+    vkgi(&args);
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    let rows = report["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4, "lpv and ilpv at 1 and 2 steps");
+    for r in rows {
+        for part in ["indirect", "full"] {
+            for metric in ["rmse", "rel_mse", "flip"] {
+                let v = r[part][metric].as_f64().unwrap();
+                assert!(v.is_finite() && v >= 0.0, "{part} {metric} = {v}");
+            }
+        }
+        assert!(r["ms_per_frame"].as_f64().unwrap() > 0.0);
+    }
+    let markdown = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    let table_rows: Vec<&str> = markdown
+        .lines()
+        .filter(|l| l.starts_with("| lpv") || l.starts_with("| ilpv"))
+        .collect();
+    assert_eq!(table_rows.len(), 4);
+    for row in table_rows {
+        let link = row
+            .rsplit("](")
+            .next()
+            .unwrap()
+            .trim_end_matches(" |")
+            .trim_end_matches(')');
+        assert!(
+            dir.join(link).is_file(),
+            "row points at a missing image: {row}"
+        );
+    }
+    for file in [
+        "error_vs_time.png",
+        "ns_per_cell.png",
+        "strip.png",
+        "reference.exr",
+        "reference.exr.json",
+    ] {
+        assert!(dir.join(file).is_file(), "{file} missing");
+    }
+    assert_eq!(report["reference"]["reused"], false);
+    // A second run reuses the cached reference.
+    vkgi(&args);
+    let again: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(again["reference"]["reused"], true);
+}
