@@ -118,7 +118,7 @@ impl ProfileArgs {
 #[derive(Args, Debug, Clone)]
 pub struct GiArgs {
     /// GI method: none (direct light only), lpv (classic 6-neighbour), ilpv (seed 000).
-    #[arg(long, value_enum, default_value_t = Method::Ilpv)]
+    #[arg(long, visible_alias = "scheme", value_enum, default_value_t = Method::Ilpv)]
     pub method: Method,
     /// Lattice cells along the scene's longest axis (other axes: as many as the bounds need).
     #[arg(long, default_value_t = lpv::technique::DEFAULT_LATTICE)]
