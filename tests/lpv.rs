@@ -647,35 +647,8 @@ fn default_settings_beat_the_best_constant_ambient_term() {
     };
     let mut tracer = vkgi::reference::PathTracer::new(&gpu, &scene, w, h).unwrap();
     let truth = tracer.render(&gpu, &settings, |_, _| {}).unwrap().indirect;
-    // Albedo per pixel (background 0), by casting each pixel's centre ray on the CPU.
-    let albedo: Vec<[f32; 3]> = (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let dir =
-                scene
-                    .camera
-                    .ray_direction(glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5), w, h);
-            scene
-                .mesh
-                .intersect(scene.camera.position, dir, 1e-4, 1e9)
-                .map_or([0.0; 3], |hit| {
-                    scene.materials[scene.mesh.materials[hit.triangle] as usize]
-                        .albedo
-                        .to_array()
-                })
-        })
-        .collect();
-    let (num, den) = albedo
-        .iter()
-        .zip(&truth.pixels)
-        .fold((0.0f64, 0.0f64), |(n, d), (a, t)| {
-            (0..3).fold((n, d), |(n, d), c| {
-                (n + f64::from(a[c] * t[c]), d + f64::from(a[c] * a[c]))
-            })
-        });
-    let k = (num / den) as f32;
-    let ambient =
-        vkgi::imageio::HdrImage::new(w, h, albedo.iter().map(|a| a.map(|v| v * k)).collect());
+    let albedo = vkgi::app::report::albedo_image(&scene, w, h);
+    let ambient = vkgi::app::report::constant_ambient(&albedo, &truth);
     let score = |pixels: Vec<[f32; 3]>| {
         vkgi::metrics::compare(&vkgi::imageio::HdrImage::new(w, h, pixels), &truth, None).unwrap()
     };

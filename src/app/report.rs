@@ -143,7 +143,7 @@ fn reference(
 }
 
 /// Per-pixel albedo of what each pixel sees (0 for background), by CPU ray casting.
-fn albedo_image(scene: &Scene, width: u32, height: u32) -> Vec<[f32; 3]> {
+pub fn albedo_image(scene: &Scene, width: u32, height: u32) -> Vec<[f32; 3]> {
     (0..height)
         .flat_map(|y| (0..width).map(move |x| (x, y)))
         .map(|(x, y)| {

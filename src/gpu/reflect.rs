@@ -428,7 +428,10 @@ mod tests {
             &[OP_TYPE_POINTER, 10, STORAGE_STORAGE_BUFFER, 9],
             &[OP_VARIABLE, 10, 11, STORAGE_STORAGE_BUFFER],
         ]);
-        let i = reflect(&words).unwrap();
+        let i = match reflect(&words) {
+            Ok(i) => i,
+            Err(e) => panic!("reflection failed: {e}"),
+        };
         assert_eq!(i.local_size, Some([8, 4, 2]));
         assert_eq!(i.push_constant_size, 20);
         assert_eq!(
@@ -463,7 +466,7 @@ mod tests {
             push_constant_size: 16,
             ..Default::default()
         };
-        a.merge(&c).unwrap();
+        assert_eq!(a.merge(&c), Ok(()));
         assert_eq!(a.bindings.len(), 2);
         assert_eq!(a.push_constant_size, 16);
     }
