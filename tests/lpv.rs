@@ -279,7 +279,7 @@ fn ilpv(lattice: u32) -> LpvSettings {
 }
 
 #[test]
-fn async_and_sequential_channel_plans_give_identical_images() {
+fn async_and_sequential_channel_plans_give_the_same_image() {
     use vkgi::frame::ChannelPlan;
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
@@ -293,7 +293,22 @@ fn async_and_sequential_channel_plans_give_identical_images() {
     let sequential = image(ChannelPlan::Sequential);
     let asynchronous = image(ChannelPlan::Async);
     assert!(common::mean(&sequential) > 0.0);
-    assert_eq!(sequential, asynchronous);
+    // Injection sums RSM texels with float atomics, whose order the driver's threads decide, so
+    // two runs of the same plan agree to rounding, not bit for bit: allow a few ulps of the sum.
+    let brightest = sequential
+        .iter()
+        .flatten()
+        .fold(0.0f32, |max, &v| max.max(v));
+    let worst = sequential
+        .iter()
+        .flatten()
+        .zip(asynchronous.iter().flatten())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst <= 1e-5 * brightest,
+        "plans differ by {worst} (brightest {brightest})"
+    );
     common::assert_no_validation_errors(&gpu);
 }
 
