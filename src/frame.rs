@@ -1,8 +1,11 @@
 //! THE frame, top to bottom: shadow maps -> G-buffer -> GI light (RSM, injection, propagation)
 //! -> direct lighting -> GI lookup -> tone mapping. Every pass of a raster frame is recorded
 //! here, in order; a GI technique (src/gi/) adds its passes at the two marked points.
+//!
+//! A frame has one or more views (the walls of a CAVE): each has its own eye, G-buffer and
+//! images, while shadows and the GI light are computed once per frame and shared by all views.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
@@ -10,13 +13,13 @@ use glam::{Mat4, Vec3};
 
 use crate::error::InputError;
 use crate::gi::Technique;
-use crate::gpu::frames::{FrameRing, SemaphoreWait, TimelineSemaphore};
+use crate::gpu::frames::{FrameBuilder, FrameRing, SemaphoreWait, TimelineSemaphore};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc, RasterPass,
     RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
 };
-use crate::scene::Scene;
 use crate::scene::gpu::SceneBuffers;
+use crate::scene::{Camera, Scene};
 use crate::shader_shared as ids;
 use crate::shaders;
 
@@ -82,6 +85,53 @@ struct TonemapPush {
     exposure_scale: f32,
 }
 
+/// Where a view looks from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Eye {
+    /// World to clip space (Vulkan: depth 0..1, y down).
+    pub view_projection: Mat4,
+    pub position: Vec3,
+}
+
+impl Eye {
+    /// The eye of a pinhole camera for an image of `width` x `height`, with clip planes that
+    /// enclose the scene.
+    pub fn from_camera(camera: &Camera, scene: &Scene, width: u32, height: u32) -> Eye {
+        let aspect = width as f32 / height.max(1) as f32;
+        Eye {
+            view_projection: camera.view_projection(aspect, scene.bounds_min, scene.bounds_max),
+            position: camera.position,
+        }
+    }
+}
+
+/// One view of the frame: its eye, G-buffer and output images.
+pub struct View {
+    pub eye: Eye,
+    pub gbuffer: GBuffer,
+    /// Linear HDR radiance (the image every error metric is computed on).
+    pub hdr: Image,
+    /// Tone-mapped, sRGB-encoded 8-bit output.
+    pub ldr: Image,
+}
+
+impl View {
+    pub fn width(&self) -> u32 {
+        self.hdr.width()
+    }
+    pub fn height(&self) -> u32 {
+        self.hdr.height()
+    }
+}
+
+/// Work the frame's last submission does after tone mapping (e.g. showing the views in a
+/// window), with the semaphores it waits on and signals.
+pub struct Epilogue<'a> {
+    pub waits: &'a [SemaphoreWait],
+    pub signals: &'a [(vk::Semaphore, u64)],
+    pub record: &'a dyn Fn(&mut Recorder, &Frame) -> GpuResult<()>,
+}
+
 pub struct Frame {
     pub options: FrameOptions,
     pub scene: SceneBuffers,
@@ -91,13 +141,9 @@ pub struct Frame {
     tonemap_pipeline: ComputePipeline,
     pub shadow_map: Image,
     pub shadow_sampler: Sampler,
-    pub gbuffer: GBuffer,
-    /// Linear HDR radiance (the image every error metric is computed on).
-    pub hdr: Image,
-    /// Tone-mapped, sRGB-encoded 8-bit output.
-    pub ldr: Image,
-    view_projection: Mat4,
-    camera_position: Vec3,
+    pub views: Vec<View>,
+    /// Light and shadow-view records to write into the scene buffers at the next frame.
+    pending_lights: RefCell<Option<(Vec<u8>, Vec<u8>)>>,
     /// Semaphores joining the per-channel submissions (async plan only).
     channel_sync: Option<ChannelSync>,
 }
@@ -121,6 +167,42 @@ struct ChannelSync {
     next: Cell<u64>,
 }
 
+/// Formats of the G-buffer's colour attachments: position, normal, albedo, emission.
+const GBUFFER_FORMATS: [vk::Format; 4] = [
+    vk::Format::R32G32B32A32_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+];
+
+/// A view's G-buffer and images.
+fn create_view(gpu: &Gpu, width: u32, height: u32, eye: Eye) -> GpuResult<View> {
+    let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT
+        | vk::ImageUsageFlags::STORAGE
+        | vk::ImageUsageFlags::TRANSFER_SRC;
+    let image = |name: &str, format: vk::Format, usage: vk::ImageUsageFlags| {
+        gpu.create_image(&ImageDesc::new_2d(name, format, width, height, usage))
+    };
+    let gbuffer = GBuffer {
+        position: image("g-buffer position", GBUFFER_FORMATS[0], attachment)?,
+        normal: image("g-buffer normal", GBUFFER_FORMATS[1], attachment)?,
+        albedo: image("g-buffer albedo", GBUFFER_FORMATS[2], attachment)?,
+        emission: image("g-buffer emission", GBUFFER_FORMATS[3], attachment)?,
+        depth: image(
+            "g-buffer depth",
+            vk::Format::D32_SFLOAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+        )?,
+    };
+    let storage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+    Ok(View {
+        eye,
+        gbuffer,
+        hdr: image("hdr radiance", vk::Format::R32G32B32A32_SFLOAT, storage)?,
+        ldr: image("ldr output", vk::Format::R8G8B8A8_UNORM, storage)?,
+    })
+}
+
 /// Check an image size against vkgi's and the device's limits.
 pub fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), InputError> {
     let limit = MAX_IMAGE_SIDE.min(gpu.info.max_image_dimension_2d);
@@ -133,7 +215,19 @@ pub fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), InputE
 }
 
 impl Frame {
+    /// A frame of one view, from the scene's camera.
     pub fn new(gpu: &Gpu, scene: &Scene, options: FrameOptions) -> anyhow::Result<Frame> {
+        let eye = Eye::from_camera(&scene.camera, scene, options.width, options.height);
+        Frame::with_eyes(gpu, scene, options, &[eye])
+    }
+
+    /// A frame of one view per eye, each `options.width` x `options.height`.
+    pub fn with_eyes(
+        gpu: &Gpu,
+        scene: &Scene,
+        options: FrameOptions,
+        eyes: &[Eye],
+    ) -> anyhow::Result<Frame> {
         check_image_size(gpu, options.width, options.height)?;
         let shadow_limit = 8192.min(gpu.info.max_image_dimension_2d);
         if !(16..=shadow_limit).contains(&options.shadow_map_size) {
@@ -151,7 +245,6 @@ impl Frame {
             .into());
         }
         let scene_buffers = SceneBuffers::upload(gpu, scene, options.shadow_map_size)?;
-        let (w, h) = (options.width, options.height);
 
         let shadow_pipeline = RasterPipeline::new(
             gpu,
@@ -164,19 +257,13 @@ impl Frame {
                 depth_bias: Some((1.25, 1.75)),
             },
         )?;
-        let gbuffer_formats = [
-            vk::Format::R32G32B32A32_SFLOAT,
-            vk::Format::R16G16B16A16_SFLOAT,
-            vk::Format::R16G16B16A16_SFLOAT,
-            vk::Format::R16G16B16A16_SFLOAT,
-        ];
         let gbuffer_pipeline = RasterPipeline::new(
             gpu,
             &RasterPipelineDesc {
                 name: "g-buffer",
                 vertex: shaders::RASTER_GBUFFER_VERT,
                 fragment: Some(shaders::RASTER_GBUFFER_FRAG),
-                color_formats: &gbuffer_formats,
+                color_formats: &GBUFFER_FORMATS,
                 depth_format: Some(vk::Format::D32_SFLOAT),
                 depth_bias: None,
             },
@@ -201,63 +288,6 @@ impl Frame {
         })?;
         let shadow_sampler =
             gpu.create_sampler(vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE)?;
-        let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT
-            | vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let gbuffer = GBuffer {
-            position: gpu.create_image(&ImageDesc::new_2d(
-                "g-buffer position",
-                gbuffer_formats[0],
-                w,
-                h,
-                attachment,
-            ))?,
-            normal: gpu.create_image(&ImageDesc::new_2d(
-                "g-buffer normal",
-                gbuffer_formats[1],
-                w,
-                h,
-                attachment,
-            ))?,
-            albedo: gpu.create_image(&ImageDesc::new_2d(
-                "g-buffer albedo",
-                gbuffer_formats[2],
-                w,
-                h,
-                attachment,
-            ))?,
-            emission: gpu.create_image(&ImageDesc::new_2d(
-                "g-buffer emission",
-                gbuffer_formats[3],
-                w,
-                h,
-                attachment,
-            ))?,
-            depth: gpu.create_image(&ImageDesc::new_2d(
-                "g-buffer depth",
-                vk::Format::D32_SFLOAT,
-                w,
-                h,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-            ))?,
-        };
-        let storage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
-        let hdr = gpu.create_image(&ImageDesc::new_2d(
-            "hdr radiance",
-            vk::Format::R32G32B32A32_SFLOAT,
-            w,
-            h,
-            storage,
-        ))?;
-        let ldr = gpu.create_image(&ImageDesc::new_2d(
-            "ldr output",
-            vk::Format::R8G8B8A8_UNORM,
-            w,
-            h,
-            storage,
-        ))?;
-
-        let aspect = w as f32 / h as f32;
         let asynchronous = match options.channel_plan {
             ChannelPlan::Auto => gpu.queues.has_async_channels(),
             ChannelPlan::Sequential => false,
@@ -276,7 +306,7 @@ impl Frame {
         } else {
             None
         };
-        Ok(Frame {
+        let mut frame = Frame {
             channel_sync,
             options,
             scene: scene_buffers,
@@ -286,16 +316,52 @@ impl Frame {
             tonemap_pipeline,
             shadow_map,
             shadow_sampler,
-            gbuffer,
-            hdr,
-            ldr,
-            view_projection: scene.camera.view_projection(
-                aspect,
-                scene.bounds_min,
-                scene.bounds_max,
-            ),
-            camera_position: scene.camera.position,
-        })
+            views: Vec::new(),
+            pending_lights: RefCell::new(None),
+        };
+        let (w, h) = (frame.options.width, frame.options.height);
+        frame.resize(gpu, w, h, eyes)?;
+        Ok(frame)
+    }
+
+    /// New views of `width` x `height`, one per eye (a window's new size, or another CAVE).
+    /// No submitted frame may still use the old views (wait for the device first).
+    pub fn resize(&mut self, gpu: &Gpu, width: u32, height: u32, eyes: &[Eye]) -> GpuResult<()> {
+        self.views.clear();
+        self.options.width = width;
+        self.options.height = height;
+        for &eye in eyes {
+            let view = create_view(gpu, width, height, eye)?;
+            self.views.push(view);
+        }
+        Ok(())
+    }
+
+    /// Move the views' eyes (as many eyes as views).
+    pub fn set_eyes(&mut self, eyes: &[Eye]) {
+        for (view, &eye) in self.views.iter_mut().zip(eyes) {
+            view.eye = eye;
+        }
+    }
+
+    /// Take the scene's lights as they are now (moved or turned); the next recorded frame
+    /// writes them into the light buffers before anything reads them. The lights' kinds must
+    /// be those the frame was made with.
+    pub fn set_lights(&mut self, scene: &Scene) {
+        let (lights, views) = crate::scene::gpu::shadow_views(scene, self.options.shadow_map_size);
+        self.scene.set_shadow_views(scene, &views);
+        *self.pending_lights.borrow_mut() = Some((
+            bytemuck::cast_slice(&lights).to_vec(),
+            bytemuck::cast_slice(&views).to_vec(),
+        ));
+    }
+
+    /// Write moved lights into the scene's light buffers (when there are any).
+    fn record_light_update(&self, rec: &mut Recorder) {
+        if let Some((lights, views)) = self.pending_lights.borrow_mut().take() {
+            rec.update_buffer("update lights", &self.scene.lights, &lights);
+            rec.update_buffer("update shadow views", &self.scene.shadow_views, &views);
+        }
     }
 
     /// Shadow maps: one depth layer per shadow view.
@@ -315,13 +381,13 @@ impl Frame {
         Ok(())
     }
 
-    /// The G-buffer from the camera.
-    pub fn record_gbuffer(&self, rec: &mut Recorder) -> GpuResult<()> {
+    /// A view's G-buffer from its eye.
+    pub fn record_gbuffer(&self, rec: &mut Recorder, view: &View) -> GpuResult<()> {
         let push = GBufferPush {
-            view_projection: self.view_projection.to_cols_array_2d(),
-            camera_position: self.camera_position.extend(1.0).to_array(),
+            view_projection: view.eye.view_projection.to_cols_array_2d(),
+            camera_position: view.eye.position.extend(1.0).to_array(),
         };
-        let g = &self.gbuffer;
+        let g = &view.gbuffer;
         rec.raster(&RasterPass {
             name: "g-buffer",
             pipeline: &self.gbuffer_pipeline,
@@ -345,11 +411,11 @@ impl Frame {
         })
     }
 
-    /// Direct light (and emission) into the HDR target.
-    pub fn record_direct_lighting(&self, rec: &mut Recorder) -> GpuResult<()> {
-        let g = &self.gbuffer;
+    /// Direct light (and emission) into a view's HDR image.
+    pub fn record_direct_lighting(&self, rec: &mut Recorder, view: &View) -> GpuResult<()> {
+        let g = &view.gbuffer;
         let push = LightingPush {
-            size: [self.options.width, self.options.height],
+            size: [view.width(), view.height()],
             light_count: self.scene.light_count,
             include_direct: u32::from(!self.options.indirect_only),
         };
@@ -368,64 +434,105 @@ impl Frame {
                 ),
                 Binding::read(ids::LIGHTING_LIGHTS, &self.scene.lights),
                 Binding::read(ids::LIGHTING_SHADOW_VIEWS, &self.scene.shadow_views),
-                Binding::image_write(ids::LIGHTING_HDR_OUT, &self.hdr),
+                Binding::image_write(ids::LIGHTING_HDR_OUT, &view.hdr),
             ],
             push: bytemuck::bytes_of(&push),
-            threads: [self.options.width, self.options.height, 1],
+            threads: [view.width(), view.height(), 1],
         })
     }
 
-    /// Exposure, tone mapping and sRGB encoding into the 8-bit output.
-    pub fn record_tonemap(&self, rec: &mut Recorder) -> GpuResult<()> {
+    /// Exposure, tone mapping and sRGB encoding into a view's 8-bit output.
+    pub fn record_tonemap(&self, rec: &mut Recorder, view: &View) -> GpuResult<()> {
         let push = TonemapPush {
-            size: [self.options.width, self.options.height],
+            size: [view.width(), view.height()],
             exposure_scale: self.options.exposure_ev.exp2(),
         };
         rec.compute(&ComputePass {
             name: "tone map",
             pipeline: &self.tonemap_pipeline,
             bindings: &[
-                Binding::image_read(ids::TONEMAP_HDR_IN, &self.hdr),
-                Binding::image_write(ids::TONEMAP_LDR_OUT, &self.ldr),
+                Binding::image_read(ids::TONEMAP_HDR_IN, &view.hdr),
+                Binding::image_write(ids::TONEMAP_LDR_OUT, &view.ldr),
             ],
             push: bytemuck::bytes_of(&push),
-            threads: [self.options.width, self.options.height, 1],
+            threads: [view.width(), view.height(), 1],
         })
     }
 
-    /// The whole frame in one command buffer, in order, with a GI technique's passes if there
-    /// is one (its colour channels one after another).
-    pub fn record(&self, rec: &mut Recorder, mut gi: Option<&mut dyn Technique>) -> GpuResult<()> {
+    /// What comes before the GI light: moved lights, shadow maps, every view's G-buffer.
+    fn record_geometry(&self, rec: &mut Recorder) -> GpuResult<()> {
+        self.record_light_update(rec);
         self.record_shadows(rec)?;
-        self.record_gbuffer(rec)?;
+        for view in &self.views {
+            self.record_gbuffer(rec, view)?;
+        }
+        Ok(())
+    }
+
+    /// What comes after the GI light, per view: direct light, the GI lookup, tone mapping.
+    fn record_views(&self, rec: &mut Recorder, gi: Option<&dyn Technique>) -> GpuResult<()> {
+        for view in &self.views {
+            self.record_direct_lighting(rec, view)?;
+            if let Some(gi) = gi {
+                gi.record_lookup(rec, view)?;
+            }
+            self.record_tonemap(rec, view)?;
+        }
+        Ok(())
+    }
+
+    /// The whole frame in one command buffer, in order, with a GI technique's passes if there
+    /// is one (its colour channels one after another, once however many views there are).
+    pub fn record(&self, rec: &mut Recorder, mut gi: Option<&mut dyn Technique>) -> GpuResult<()> {
+        self.record_geometry(rec)?;
         if let Some(gi) = gi.as_deref_mut() {
             gi.record_light(rec, self)?;
             for channel in 0..3 {
                 gi.record_channel(rec, channel)?;
             }
+            gi.light_recorded();
         }
-        self.record_direct_lighting(rec)?;
-        if let Some(gi) = gi {
-            gi.record_lookup(rec, self)?;
-        }
-        self.record_tonemap(rec)
+        self.record_views(rec, gi.as_deref())
     }
 
-    /// Record and submit one frame. With the async channel plan and a technique, the frame is
-    /// five submissions: shadows, G-buffer and the technique's light on the graphics queue; each
-    /// colour channel on its compute queue once that is done; then direct lighting, the lookup
-    /// and tone mapping on the graphics queue once all three channels are done, joined by
-    /// timeline semaphores. Otherwise it is one command buffer on the graphics queue.
+    /// Record and submit one frame (see [`Frame::submit_frame`]).
     pub fn submit(
         &self,
         gpu: &Gpu,
         ring: &mut FrameRing,
         gi: Option<&mut dyn Technique>,
     ) -> GpuResult<()> {
+        let builder = ring.begin_frame()?;
+        self.submit_frame(gpu, builder, gi, None)
+    }
+
+    /// Record and submit a begun frame. With the async channel plan and a technique, the frame
+    /// is five submissions: shadows, G-buffers and the technique's light on the graphics queue;
+    /// each colour channel on its compute queue once that is done; then direct lighting, the
+    /// lookup and tone mapping of every view on the graphics queue once all three channels are
+    /// done, joined by timeline semaphores. Otherwise it is one command buffer on the graphics
+    /// queue. The epilogue, if any, ends the last submission.
+    pub fn submit_frame(
+        &self,
+        gpu: &Gpu,
+        mut frame: FrameBuilder,
+        gi: Option<&mut dyn Technique>,
+        epilogue: Option<&Epilogue>,
+    ) -> GpuResult<()> {
         let graphics = gpu.queues.graphics;
+        let (last_waits, signals) = epilogue.map_or((&[][..], &[][..]), |e| (e.waits, e.signals));
+        let finish = |rec: &mut Recorder| match epilogue {
+            Some(e) => (e.record)(rec, self),
+            None => Ok(()),
+        };
         let (gi, sync) = match (gi, &self.channel_sync) {
             (Some(gi), Some(sync)) => (gi, sync),
-            (gi, _) => return ring.submit_frame(gpu, &graphics, &[], |rec| self.record(rec, gi)),
+            (gi, _) => {
+                return frame.finish(gpu, &graphics, last_waits, signals, |rec| {
+                    self.record(rec, gi)?;
+                    finish(rec)
+                });
+            }
         };
         let value = sync.next.get() + 1;
         sync.next.set(value);
@@ -434,15 +541,13 @@ impl Frame {
             value,
             stage: vk::PipelineStageFlags2::ALL_COMMANDS,
         };
-        let mut frame = ring.begin_frame()?;
         frame.submit(
             gpu,
             &graphics,
             &[],
             &[(sync.light_ready.raw, value)],
             |rec| {
-                self.record_shadows(rec)?;
-                self.record_gbuffer(rec)?;
+                self.record_geometry(rec)?;
                 gi.record_light(rec, self)
             },
         )?;
@@ -456,11 +561,12 @@ impl Frame {
                 |rec| gi.record_channel(rec, channel),
             )?;
         }
-        let waits = sync.channel_done.each_ref().map(after);
-        frame.finish(gpu, &graphics, &waits, |rec| {
-            self.record_direct_lighting(rec)?;
-            gi.record_lookup(rec, self)?;
-            self.record_tonemap(rec)
+        gi.light_recorded();
+        let mut waits: Vec<SemaphoreWait> = sync.channel_done.iter().map(after).collect();
+        waits.extend_from_slice(last_waits);
+        frame.finish(gpu, &graphics, &waits, signals, |rec| {
+            self.record_views(rec, Some(&*gi))?;
+            finish(rec)
         })
     }
 
@@ -473,23 +579,33 @@ impl Frame {
         }
     }
 
-    /// The linear HDR radiance, RGB per pixel, row-major from the top-left.
+    /// The first view (the only one outside a CAVE).
+    pub fn view(&self) -> &View {
+        &self.views[0]
+    }
+
+    /// The first view's linear HDR radiance, RGB per pixel, row-major from the top-left.
     pub fn read_hdr(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 3]>> {
-        let bytes = gpu.read_image(&self.hdr)?;
+        self.read_view_hdr(gpu, 0)
+    }
+
+    /// A view's linear HDR radiance, RGB per pixel, row-major from the top-left.
+    pub fn read_view_hdr(&self, gpu: &Gpu, view: usize) -> GpuResult<Vec<[f32; 3]>> {
+        let bytes = gpu.read_image(&self.views[view].hdr)?;
         Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)
             .iter()
             .map(|p| [p[0], p[1], p[2]])
             .collect())
     }
 
-    /// The tone-mapped sRGB output, RGBA8 per pixel.
+    /// The first view's tone-mapped sRGB output, RGBA8 per pixel.
     pub fn read_ldr(&self, gpu: &Gpu) -> GpuResult<Vec<u8>> {
-        gpu.read_image(&self.ldr)
+        gpu.read_image(&self.view().ldr)
     }
 
-    /// G-buffer world positions (w = 0 for background), for tests and masks.
+    /// The first view's G-buffer world positions (w = 0 for background), for tests and masks.
     pub fn read_positions(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 4]>> {
-        let bytes = gpu.read_image(&self.gbuffer.position)?;
+        let bytes = gpu.read_image(&self.view().gbuffer.position)?;
         Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec())
     }
 }

@@ -2,6 +2,7 @@
 
 pub mod app;
 pub mod error;
+pub mod font;
 pub mod frame;
 pub mod gi;
 pub mod gpu;
@@ -10,6 +11,7 @@ pub mod metrics;
 pub mod reference;
 pub mod scene;
 pub mod shader_shared;
+pub mod view;
 
 /// The SPIR-V of every shader under shaders-glsl/, compiled by build.rs.
 pub mod shaders {

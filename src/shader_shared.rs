@@ -32,6 +32,14 @@ shared_constants! {
     LIGHTING_SHADOW_VIEWS: u32 = 6;
     LIGHTING_HDR_OUT: u32 = 7;
 
+    // ---- window overlay ----
+    OVERLAY_TARGET: u32 = 0;
+    OVERLAY_MASK: u32 = 1;
+    /// Overlay mask values: leave the pixel, darken it (text box), draw text.
+    OVERLAY_CLEAR: u32 = 0;
+    OVERLAY_BOX: u32 = 1;
+    OVERLAY_TEXT: u32 = 2;
+
     // ---- tone mapping ----
     TONEMAP_HDR_IN: u32 = 0;
     TONEMAP_LDR_OUT: u32 = 1;

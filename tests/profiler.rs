@@ -140,7 +140,7 @@ fn a_pass_whose_bindings_disagree_with_its_shader_fails_naming_the_pass() {
             // Binding 1 (the output image) is missing, and the push constants are absent.
             bindings: &[Binding::image_read(
                 vkgi::shader_shared::TONEMAP_HDR_IN,
-                &frame.hdr,
+                &frame.view().hdr,
             )],
             push: &[],
             threads: [32, 24, 1],

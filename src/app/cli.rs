@@ -27,6 +27,9 @@ pub struct Cli {
 pub enum Command {
     /// Render a scene headless to PNG and/or OpenEXR, optionally profiling every pass.
     Render(RenderArgs),
+    /// The windowed renderer: fly through a scene, move the light, switch methods (F1: keys);
+    /// with --cave, the walls of a CAVE from one tracked head, sharing one GI lattice.
+    View(ViewArgs),
     /// Path-trace the ground-truth image of a scene (linear OpenEXR, settings beside it).
     Reference(ReferenceArgs),
     /// Error metrics (RMSE, relMSE, MAE, FLIP) of a linear HDR image against a reference.
@@ -55,6 +58,7 @@ impl GpuArgs {
         GpuOptions {
             validation: self.validate || from_env,
             device: self.device.clone(),
+            display: None,
         }
     }
 }
@@ -230,6 +234,48 @@ pub struct RenderArgs {
 }
 
 #[derive(Args, Debug, Clone)]
+pub struct ViewArgs {
+    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Present without waiting for vertical sync (mailbox or immediate when offered).
+    #[arg(long)]
+    pub no_vsync: bool,
+    /// Show the front, left, right and floor walls of a CAVE around the camera, each an
+    /// off-axis view from the tracked head, all lit by one shared GI lattice.
+    #[arg(long)]
+    pub cave: bool,
+    /// With --cave: one window per wall instead of the walls tiled in one window.
+    #[arg(long, requires = "cave")]
+    pub cave_windows: bool,
+    /// With --cave: the tracked head relative to the CAVE's centre, in half wall sizes, as
+    /// RIGHT,UP,BACK.
+    #[arg(long, default_value = "0.2,0.1,0.3", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub head: glam::Vec3,
+    /// With --cave: the CAVE's wall size as a fraction of the scene's diagonal.
+    #[arg(long, default_value_t = 0.2)]
+    pub cave_size: f32,
+    /// Close after this many frames (for scripts and tests).
+    #[arg(long)]
+    pub frames: Option<u64>,
+    /// On closing, save the first view as PREFIX.png and PREFIX.exr, and the window with its
+    /// overlay as PREFIX-window.png.
+    #[arg(long, value_name = "PREFIX")]
+    pub screenshot: Option<PathBuf>,
+    /// Ask the window for this size half-way through --frames (tests resizing).
+    #[arg(long, value_parser = parse_size, requires = "frames")]
+    pub resize_to: Option<(u32, u32)>,
+    #[command(flatten)]
+    pub gi: GiArgs,
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    #[command(flatten)]
+    pub profile: ProfileArgs,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+#[derive(Args, Debug, Clone)]
 pub struct ReferenceArgs {
     /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
     #[arg(long, default_value = "cornell")]
@@ -365,6 +411,19 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
             .map_err(|_| format!("'{text}' is not WIDTHxHEIGHT with whole numbers"))
     };
     Ok((parse(w)?, parse(h)?))
+}
+
+/// Parse "X,Y,Z" into a vector of finite numbers.
+pub fn parse_vec3(text: &str) -> Result<glam::Vec3, String> {
+    let parts: Vec<f32> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{text}' is not X,Y,Z"))?;
+    match parts[..] {
+        [x, y, z] if parts.iter().all(|v| v.is_finite()) => Ok(glam::Vec3::new(x, y, z)),
+        _ => Err(format!("'{text}' is not X,Y,Z with three finite numbers")),
+    }
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@ pub mod profile;
 mod reference;
 pub mod render;
 pub mod report;
+mod view;
 
 pub use cli::{Cli, Command};
 
@@ -15,6 +16,7 @@ pub use cli::{Cli, Command};
 pub fn run(command: &Command) -> anyhow::Result<()> {
     match command {
         Command::Render(args) => render::run(args),
+        Command::View(args) => view::run(args),
         Command::Reference(args) => reference::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Profile(args) => profile::run_command(args),

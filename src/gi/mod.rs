@@ -5,7 +5,7 @@
 
 pub mod lpv;
 
-use crate::frame::Frame;
+use crate::frame::{Frame, View};
 use crate::gpu::{GpuResult, Recorder};
 
 pub trait Technique {
@@ -13,8 +13,11 @@ pub trait Technique {
     fn record_light(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()>;
     /// This frame's work for one colour channel (0 = R, 1 = G, 2 = B).
     fn record_channel(&mut self, rec: &mut Recorder, channel: usize) -> GpuResult<()>;
-    /// Add indirect radiance to `frame.hdr` (after direct lighting and every channel).
-    fn record_lookup(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()>;
+    /// Every channel of this frame is recorded: its light is the one lookups read from now.
+    fn light_recorded(&mut self);
+    /// Add indirect radiance to a view's HDR image (after its direct lighting and after
+    /// [`Technique::light_recorded`]); called once per view.
+    fn record_lookup(&self, rec: &mut Recorder, view: &View) -> GpuResult<()>;
     /// Lines for the profile: how the technique ran (lattice, tiles...).
     fn describe(&self) -> Vec<String>;
 }

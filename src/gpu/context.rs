@@ -23,6 +23,9 @@ pub struct GpuOptions {
     /// Device to use: an index into the enumeration order or a case-insensitive part of its name.
     /// `None` reads `VKGI_DEVICE`, and without it picks discrete > integrated > virtual > CPU.
     pub device: Option<String>,
+    /// Presenting to windows on this display: enables the surface extensions it needs on the
+    /// instance and VK_KHR_swapchain on the device.
+    pub display: Option<winit::raw_window_handle::RawDisplayHandle>,
 }
 
 /// Validation-layer messages seen so far. Tests assert that `error_count()` stays zero.
@@ -159,9 +162,10 @@ impl DeviceInfo {
 
 /// The owner of the instance, device and allocator; destroyed after every resource made from it.
 pub struct DeviceShared {
-    /// Keeps the Vulkan loader library loaded while any handle exists.
-    _entry: ash::Entry,
+    /// The loaded Vulkan library (kept loaded while any handle exists).
+    pub(crate) entry: ash::Entry,
     pub(crate) instance: ash::Instance,
+    pub(crate) physical: vk::PhysicalDevice,
     pub(crate) device: ash::Device,
     pub(crate) push_descriptor: ash::khr::push_descriptor::Device,
     pub(crate) debug_utils: Option<ash::ext::debug_utils::Device>,
@@ -221,7 +225,7 @@ impl Gpu {
             .validation
             .then(|| Arc::new(ValidationLog::default()));
         let (instance, debug_messenger, has_debug_utils) =
-            create_instance(&entry, validation.as_ref())?;
+            create_instance(&entry, validation.as_ref(), options.display)?;
         // finish_device owns the instance from here on, and destroys it if it fails.
         finish_device(
             entry,
@@ -288,6 +292,7 @@ type Messenger = (ash::ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT);
 fn create_instance(
     entry: &ash::Entry,
     validation: Option<&Arc<ValidationLog>>,
+    display: Option<winit::raw_window_handle::RawDisplayHandle>,
 ) -> GpuResult<(ash::Instance, Option<Messenger>, bool)> {
     // SAFETY: plain enumeration calls on a loaded entry.
     let layers = unsafe { entry.enumerate_instance_layer_properties() }
@@ -317,6 +322,17 @@ fn create_instance(
     let mut extension_names = Vec::new();
     if has_debug_utils {
         extension_names.push(ash::ext::debug_utils::NAME.as_ptr());
+    }
+    if let Some(display) = display {
+        for name in super::swapchain::surface_extensions(display)? {
+            if !has_ext(name) {
+                return Err(GpuError::Setup(format!(
+                    "the Vulkan loader lacks {}, needed to present to this display",
+                    name.to_string_lossy()
+                )));
+            }
+            extension_names.push(name.as_ptr());
+        }
     }
 
     let app_info = vk::ApplicationInfo::default()
@@ -420,7 +436,7 @@ fn finish_device(
             return Err(e);
         }
     };
-    let created = create_device(&instance, physical);
+    let created = create_device(&instance, physical, options.display.is_some());
     let (device, queues, info) = match created {
         Ok(d) => d,
         Err(e) => {
@@ -451,8 +467,9 @@ fn finish_device(
     let debug_utils =
         has_debug_utils.then(|| ash::ext::debug_utils::Device::new(&instance, &device));
     let shared = Arc::new(DeviceShared {
-        _entry: entry,
+        entry,
         instance,
+        physical,
         device,
         push_descriptor,
         debug_utils,
@@ -593,6 +610,7 @@ fn plan_queues(families: &[vk::QueueFamilyProperties]) -> GpuResult<(u32, Vec<(u
 fn create_device(
     instance: &ash::Instance,
     physical: vk::PhysicalDevice,
+    presents: bool,
 ) -> GpuResult<(ash::Device, QueuePlan, DeviceInfo)> {
     // SAFETY: queries on a physical device enumerated from this instance.
     let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
@@ -612,6 +630,14 @@ fn create_device(
         ));
     }
     let mut extension_names = vec![ash::khr::push_descriptor::NAME.as_ptr()];
+    if presents {
+        if !has_ext(ash::khr::swapchain::NAME) {
+            return Err(GpuError::Setup(
+                "the device lacks VK_KHR_swapchain, so it cannot present to a window".into(),
+            ));
+        }
+        extension_names.push(ash::khr::swapchain::NAME.as_ptr());
+    }
     let has_atomic_float = has_ext(ash::ext::shader_atomic_float::NAME);
     let mut atomic_float_query = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default();
     let mut features13_query = vk::PhysicalDeviceVulkan13Features::default();

@@ -121,7 +121,7 @@ impl FrameRing {
     where
         F: FnOnce(&mut Recorder) -> GpuResult<()>,
     {
-        self.begin_frame()?.finish(gpu, queue, waits, record)
+        self.begin_frame()?.finish(gpu, queue, waits, &[], record)
     }
 
     /// Wait for a slot's frame if it is in flight and collect its timestamps.
@@ -210,18 +210,25 @@ impl FrameBuilder<'_> {
         self.part(gpu, queue, waits, signals, false, record)
     }
 
-    /// Record and submit the frame's last part, which carries the frame's fence.
+    /// The frame-in-flight slot this frame uses (its per-slot resources are free to reuse).
+    pub fn slot(&self) -> usize {
+        self.slot
+    }
+
+    /// Record and submit the frame's last part, which carries the frame's fence and signals
+    /// `signals` (e.g. a swapchain image's "rendered" semaphore).
     pub fn finish<F>(
         mut self,
         gpu: &Gpu,
         queue: &Queue,
         waits: &[SemaphoreWait],
+        signals: &[(vk::Semaphore, u64)],
         record: F,
     ) -> GpuResult<()>
     where
         F: FnOnce(&mut Recorder) -> GpuResult<()>,
     {
-        self.part(gpu, queue, waits, &[], true, record)?;
+        self.part(gpu, queue, waits, signals, true, record)?;
         self.ring.slots[self.slot].in_flight = true;
         self.ring.frame += 1;
         Ok(())

@@ -15,6 +15,7 @@ pub mod pass;
 pub mod pipeline;
 pub mod profiler;
 pub mod reflect;
+pub mod swapchain;
 
 pub use context::{Gpu, GpuOptions, Queue, QueuePlan};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, Sampler};

@@ -59,16 +59,8 @@ impl Access {
                 A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
                 L::DEPTH_ATTACHMENT_OPTIMAL,
             ),
-            Access::TransferRead => (
-                S::COPY | S::CLEAR,
-                A::TRANSFER_READ,
-                L::TRANSFER_SRC_OPTIMAL,
-            ),
-            Access::TransferWrite => (
-                S::COPY | S::CLEAR,
-                A::TRANSFER_WRITE,
-                L::TRANSFER_DST_OPTIMAL,
-            ),
+            Access::TransferRead => (S::ALL_TRANSFER, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL),
+            Access::TransferWrite => (S::ALL_TRANSFER, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL),
             Access::HostRead => (S::HOST, A::HOST_READ, L::GENERAL),
         }
     }
@@ -706,6 +698,133 @@ impl<'a> Recorder<'a> {
         self.end_scope(scope);
     }
 
+    /// Overwrite the start of a buffer with `data` from the command buffer (at most 64 KiB, a
+    /// multiple of 4 bytes), ordered with the passes around it like any transfer.
+    pub fn update_buffer(&mut self, name: &str, buffer: &Buffer, data: &[u8]) {
+        if data.is_empty() {
+            return;
+        }
+        let scope = self.begin_scope(name);
+        self.sync(&[(Resource::Buffer(buffer), Access::TransferWrite)]);
+        // SAFETY: the buffer is alive, has TRANSFER_DST and holds `data` (the caller sizes it).
+        unsafe {
+            self.gpu
+                .shared
+                .device
+                .cmd_update_buffer(self.cmd, buffer.raw, 0, data)
+        };
+        self.end_scope(scope);
+    }
+
+    /// Clear a colour image to `colour`.
+    pub fn clear_image(&mut self, name: &str, image: &Image, colour: [f32; 4]) {
+        let scope = self.begin_scope(name);
+        self.sync(&[(Resource::Image(image), Access::TransferWrite)]);
+        let value = vk::ClearColorValue { float32: colour };
+        // SAFETY: the image is alive, has TRANSFER_DST and is in TRANSFER_DST_OPTIMAL after
+        // `sync`.
+        unsafe {
+            self.gpu.shared.device.cmd_clear_color_image(
+                self.cmd,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &value,
+                &[image.subresource_range()],
+            )
+        };
+        self.end_scope(scope);
+    }
+
+    /// Copy a rectangle of `src` (x, y, width, height) into a rectangle of `dst`, scaling with
+    /// linear filtering when the sizes differ.
+    pub fn blit(&mut self, name: &str, src: &Image, from: [i32; 4], dst: &Image, to: [i32; 4]) {
+        let scope = self.begin_scope(name);
+        self.sync(&[
+            (Resource::Image(src), Access::TransferRead),
+            (Resource::Image(dst), Access::TransferWrite),
+        ]);
+        let region = blit_region(from, to);
+        // SAFETY: both images are alive with TRANSFER_SRC / TRANSFER_DST usage and in the
+        // layouts `sync` put them in.
+        unsafe {
+            self.gpu.shared.device.cmd_blit_image(
+                self.cmd,
+                src.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+                vk::Filter::LINEAR,
+            )
+        };
+        self.end_scope(scope);
+    }
+
+    /// Copy all of `src` onto a swapchain image `target` of the same size and leave the target
+    /// ready to present. `target`'s previous contents are discarded; the submission must wait
+    /// for its acquisition at the BLIT stage.
+    pub fn blit_to_swapchain(&mut self, src: &Image, target: vk::Image) {
+        let scope = self.begin_scope("present blit");
+        self.sync(&[(Resource::Image(src), Access::TransferRead)]);
+        let colour = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let to_transfer = vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::BLIT)
+            .src_access_mask(vk::AccessFlags2::NONE)
+            .dst_stage_mask(vk::PipelineStageFlags2::BLIT)
+            .dst_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .old_layout(vk::ImageLayout::UNDEFINED)
+            .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(target)
+            .subresource_range(colour);
+        let to_present = vk::ImageMemoryBarrier2::default()
+            .src_stage_mask(vk::PipelineStageFlags2::BLIT)
+            .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
+            .dst_stage_mask(vk::PipelineStageFlags2::NONE)
+            .dst_access_mask(vk::AccessFlags2::NONE)
+            .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+            .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(target)
+            .subresource_range(colour);
+        let (w, h) = (src.width() as i32, src.height() as i32);
+        let region = blit_region([0, 0, w, h], [0, 0, w, h]);
+        let device = &self.gpu.shared.device;
+        // SAFETY: `target` is an acquired swapchain image (TRANSFER_DST usage) whose
+        // acquisition the submission waits for at the BLIT stage, which the first barrier
+        // chains to; `src` is in TRANSFER_SRC_OPTIMAL after `sync`.
+        unsafe {
+            let barriers = [to_transfer];
+            device.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+            );
+            device.cmd_blit_image(
+                self.cmd,
+                src.raw,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                target,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+                vk::Filter::NEAREST,
+            );
+            let barriers = [to_present];
+            device.cmd_pipeline_barrier2(
+                self.cmd,
+                &vk::DependencyInfo::default().image_memory_barriers(&barriers),
+            );
+        }
+        self.end_scope(scope);
+    }
+
     /// Copy layer 0 of an image into a buffer, tightly packed.
     pub fn copy_image_to_buffer(&mut self, name: &str, image: &Image, buffer: &Buffer) {
         let scope = self.begin_scope(name);
@@ -743,6 +862,36 @@ impl<'a> Recorder<'a> {
     /// Make a buffer's device writes visible to the host once the submission's fence signals.
     pub fn host_read(&mut self, buffer: &Buffer) {
         self.sync(&[(Resource::Buffer(buffer), Access::HostRead)]);
+    }
+}
+
+/// A blit of colour layer 0 from rectangle `from` to `to` (x, y, width, height).
+fn blit_region(from: [i32; 4], to: [i32; 4]) -> vk::ImageBlit {
+    let corners = |r: [i32; 4]| {
+        [
+            vk::Offset3D {
+                x: r[0],
+                y: r[1],
+                z: 0,
+            },
+            vk::Offset3D {
+                x: r[0] + r[2],
+                y: r[1] + r[3],
+                z: 1,
+            },
+        ]
+    };
+    let layer = vk::ImageSubresourceLayers {
+        aspect_mask: vk::ImageAspectFlags::COLOR,
+        mip_level: 0,
+        base_array_layer: 0,
+        layer_count: 1,
+    };
+    vk::ImageBlit {
+        src_subresource: layer,
+        src_offsets: corners(from),
+        dst_subresource: layer,
+        dst_offsets: corners(to),
     }
 }
 
@@ -784,7 +933,7 @@ mod tests {
         transition(&mut s, Access::GraphicsRead, false);
         let war = barrier(&mut s, Access::ComputeWrite, false);
         assert!(war.0.contains(vk::PipelineStageFlags2::VERTEX_SHADER));
-        assert!(war.0.contains(vk::PipelineStageFlags2::COPY));
+        assert!(war.0.contains(vk::PipelineStageFlags2::ALL_TRANSFER));
     }
 
     #[test]

@@ -171,14 +171,24 @@ impl SceneBuffers {
             shadow_views: gpu.upload_storage("shadow views", bytemuck::cast_slice(&views))?,
             vertex_count: vertices.len() as u32,
             light_count: lights.len() as u32,
-            shadow_view_matrices: views
-                .iter()
-                .map(|v| Mat4::from_cols_array_2d(&v.view_projection))
-                .collect(),
-            shadow_view_origins: views
-                .iter()
-                .map(|v| scene.lights[v.axis_light[3] as usize].position)
-                .collect(),
+            shadow_view_matrices: Vec::new(),
+            shadow_view_origins: Vec::new(),
         })
+        .map(|mut buffers| {
+            buffers.set_shadow_views(scene, &views);
+            buffers
+        })
+    }
+
+    /// Keep the host-side copy of the shadow views (the RSM pass pushes them as constants).
+    pub fn set_shadow_views(&mut self, scene: &Scene, views: &[GpuShadowView]) {
+        self.shadow_view_matrices = views
+            .iter()
+            .map(|v| Mat4::from_cols_array_2d(&v.view_projection))
+            .collect();
+        self.shadow_view_origins = views
+            .iter()
+            .map(|v| scene.lights[v.axis_light[3] as usize].position)
+            .collect();
     }
 }

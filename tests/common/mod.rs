@@ -11,6 +11,7 @@ pub fn gpu() -> Gpu {
     Gpu::new(&GpuOptions {
         validation: true,
         device: None,
+        display: None,
     })
     .expect("a Vulkan 1.3 device with validation layers (lavapipe in CI)")
 }

@@ -11,7 +11,7 @@ use super::lattice::Lattice;
 use super::sh;
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
-use crate::frame::Frame;
+use crate::frame::{Frame, View};
 use crate::gi::Technique;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
@@ -854,23 +854,26 @@ impl Technique for Lpv {
         Ok(())
     }
 
-    fn record_lookup(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()> {
-        // Every channel of this frame is recorded: its light becomes "last frame's".
+    fn light_recorded(&mut self) {
+        // This frame's light becomes "last frame's".
         self.lookup_scale = self.frame_lookup_scale(self.blend_weights().1);
         self.result = self.pending_result;
         self.previous_energy = self.energy;
         self.frames += 1;
+    }
+
+    fn record_lookup(&self, rec: &mut Recorder, view: &View) -> GpuResult<()> {
         let [r, g, b] = self.result_lattices();
         let o = self.lattice.origin;
         let cell = self.lattice.cell_size;
         let push = LookupPush {
             origin_cell: [o.x, o.y, o.z, cell],
             dims: self.dims(),
-            size: [frame.options.width, frame.options.height],
+            size: [view.width(), view.height()],
             scale: self.lookup_scale / (std::f32::consts::PI * cell * cell),
             offset: self.settings.lookup_offset,
         };
-        let gb = &frame.gbuffer;
+        let gb = &view.gbuffer;
         rec.compute(&ComputePass {
             name: "lpv lookup",
             pipeline: &self.lookup_pipeline,
@@ -881,10 +884,10 @@ impl Technique for Lpv {
                 Binding::read(ids::LOOKUP_LATTICE_R, r),
                 Binding::read(ids::LOOKUP_LATTICE_G, g),
                 Binding::read(ids::LOOKUP_LATTICE_B, b),
-                Binding::image_write(ids::LOOKUP_HDR, &frame.hdr),
+                Binding::image_write(ids::LOOKUP_HDR, &view.hdr),
             ],
             push: bytemuck::bytes_of(&push),
-            threads: [frame.options.width, frame.options.height, 1],
+            threads: [view.width(), view.height(), 1],
         })
     }
 

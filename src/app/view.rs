@@ -1,0 +1,717 @@
+//! `vkgi view`: the windowed renderer. winit's event loop drives the frame: input moves the
+//! camera and the light, keys switch the GI method and its settings, each redraw renders every
+//! view (one, or the walls of a CAVE) with one shared GI light and presents them.
+
+use std::collections::{HashSet, VecDeque};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::Context;
+use ash::vk;
+use glam::Vec3;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::raw_window_handle::HasDisplayHandle;
+use winit::window::{Window, WindowId};
+
+use crate::frame::{Epilogue, Eye, Frame};
+use crate::gi::Technique;
+use crate::gi::lpv::{Lpv, LpvSettings, Scheme};
+use crate::gpu::frames::{FrameRing, SemaphoreWait};
+use crate::gpu::profiler::FRAME_SCOPE;
+use crate::gpu::{Gpu, GpuOptions};
+use crate::imageio::HdrImage;
+use crate::scene::Scene;
+use crate::view::cave::Cave;
+use crate::view::fly::FlyCamera;
+use crate::view::output::{Output, cave_tiles};
+use crate::view::overlay::Overlay;
+
+use super::cli::{Method, ViewArgs};
+use super::output;
+use super::render::check_validation;
+
+/// Frames in flight (the profiler's ring and the swapchain's acquisition semaphores).
+const FRAMES_IN_FLIGHT: usize = 2;
+/// Frames the overlay's per-pass times average over.
+const OVERLAY_FRAMES: u64 = 16;
+/// Passes the overlay lists (the costliest, after the frame total).
+const OVERLAY_PASSES: usize = 8;
+/// Profiler samples kept before old ones are dropped, unless the profile is being recorded.
+const MAX_LIVE_SAMPLES: usize = 20_000;
+
+/// The keys, for F1 and the README.
+pub const HELP: &[&str] = &[
+    "W A S D  MOVE    Q E  DOWN/UP    DRAG  TURN    WHEEL  SPEED",
+    "ARROWS  MOVE THE LIGHT    PAGE UP/DOWN  LIGHT UP/DOWN",
+    "M  METHOD (NONE, LPV, ILPV)    [ ]  LATTICE -/+    , .  ITERATIONS -/+",
+    "- =  LAMBDA -/+    I  INDIRECT ONLY    O  DIRECT ONLY",
+    "P  SCREENSHOT (PNG + EXR)    F1  HELP    ESC  QUIT",
+];
+
+pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
+    let scene = Scene::load(&args.scene)?;
+    if args.frames == Some(0) {
+        crate::bad_input!("--frames must be at least 1");
+    }
+    if !(args.cave_size.is_finite() && args.cave_size > 0.0 && args.cave_size <= 100.0) {
+        crate::bad_input!("--cave-size must be in (0, 100]");
+    }
+    let (width, height) = args.frame.size;
+    let limit = crate::frame::MAX_IMAGE_SIDE;
+    if width == 0 || height == 0 || width > limit || height > limit {
+        crate::bad_input!(
+            "window size {width}x{height} is out of range: each side must be 1..={limit}"
+        );
+    }
+    let event_loop = EventLoop::new().context(
+        "opening a window needs a display (X11 or Wayland); without one use `vkgi render`",
+    )?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = ViewApp {
+        args: args.clone(),
+        scene: Some(scene),
+        running: None,
+        error: None,
+    };
+    event_loop.run_app(&mut app)?;
+    if let Some(error) = app.error {
+        return Err(error);
+    }
+    Ok(())
+}
+
+struct ViewApp {
+    args: ViewArgs,
+    /// The scene until the window opens (then it moves into `running`).
+    scene: Option<Scene>,
+    running: Option<Running>,
+    error: Option<anyhow::Error>,
+}
+
+impl ViewApp {
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: anyhow::Error) {
+        self.error.get_or_insert(error);
+        self.close(event_loop);
+    }
+
+    /// Finish every frame, then destroy everything before the event loop ends.
+    fn close(&mut self, event_loop: &ActiveEventLoop) {
+        if let Some(mut running) = self.running.take()
+            && let Err(e) = running.shut_down(&self.args)
+        {
+            self.error.get_or_insert(e);
+        }
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for ViewApp {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(scene) = self.scene.take() else {
+            return;
+        };
+        match Running::new(event_loop, &self.args, scene) {
+            Ok(running) => self.running = Some(running),
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, id: WindowId, event: WindowEvent) {
+        let Some(running) = self.running.as_mut() else {
+            return;
+        };
+        let result = match event {
+            WindowEvent::CloseRequested => {
+                self.close(event_loop);
+                return;
+            }
+            WindowEvent::Resized(_) => {
+                running.resize_pending = true;
+                Ok(Flow::Continue)
+            }
+            WindowEvent::RedrawRequested if running.outputs[0].window.id() == id => {
+                running.redraw(&self.args)
+            }
+            WindowEvent::KeyboardInput { event, .. } => running.key(&event),
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                running.dragging = state == ElementState::Pressed;
+                running.cursor = None;
+                Ok(Flow::Continue)
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let now = (position.x as f32, position.y as f32);
+                if let (true, Some(last)) = (running.dragging, running.cursor) {
+                    running.fly.turn(now.0 - last.0, now.1 - last.1);
+                }
+                running.cursor = Some(now);
+                Ok(Flow::Continue)
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 40.0,
+                };
+                running.fly.scroll(steps);
+                Ok(Flow::Continue)
+            }
+            _ => Ok(Flow::Continue),
+        };
+        match result {
+            Ok(Flow::Continue) => {}
+            Ok(Flow::Close) => self.close(event_loop),
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+        if let Some(running) = &self.running {
+            running.outputs[0].window.request_redraw();
+        }
+    }
+}
+
+enum Flow {
+    Continue,
+    Close,
+}
+
+/// Everything that lives while the window is open. Field order is drop order: GPU objects
+/// before the GPU.
+struct Running {
+    outputs: Vec<Output>,
+    overlay: Overlay,
+    technique: Option<Box<dyn Technique>>,
+    frame: Frame,
+    ring: FrameRing,
+    gpu: Gpu,
+    scene: Scene,
+    fly: FlyCamera,
+    cave: Option<Cave>,
+    method: Method,
+    settings: LpvSettings,
+    /// What the overlay says about the last settings change (e.g. a rejected lattice size).
+    status: String,
+    held: HashSet<KeyCode>,
+    dragging: bool,
+    cursor: Option<(f32, f32)>,
+    resize_pending: bool,
+    help: bool,
+    direct_only: bool,
+    last_redraw: Instant,
+    frame_seconds: VecDeque<f32>,
+    frames_shown: u64,
+    screenshots: u32,
+    /// The whole profile is wanted at the end (so samples are never dropped).
+    recording_profile: bool,
+}
+
+impl Running {
+    fn new(event_loop: &ActiveEventLoop, args: &ViewArgs, scene: Scene) -> anyhow::Result<Self> {
+        let (width, height) = args.frame.size;
+        let windows = if args.cave_windows { 4 } else { 1 };
+        let mut handles = Vec::new();
+        for index in 0..windows {
+            let title = if args.cave_windows {
+                format!("vkgi: {} (CAVE wall {})", scene.name, index + 1)
+            } else {
+                format!("vkgi: {}", scene.name)
+            };
+            let attributes = Window::default_attributes()
+                .with_title(title)
+                .with_inner_size(PhysicalSize::new(width, height));
+            handles.push(Arc::new(event_loop.create_window(attributes)?));
+        }
+        let display = event_loop.display_handle()?.as_raw();
+        let gpu = Gpu::new(&GpuOptions {
+            display: Some(display),
+            ..args.gpu.options()
+        })
+        .context("setting up the GPU")?;
+        let mut outputs = Vec::new();
+        for window in handles {
+            outputs.push(Output::new(&gpu, window, !args.no_vsync, FRAMES_IN_FLIGHT)?);
+        }
+        let extent = (scene.bounds_max - scene.bounds_min).length();
+        let mut fly = FlyCamera::new(scene.camera, extent);
+        let cave = args
+            .cave
+            .then(|| Cave::centred(&scene, args.cave_size, args.head));
+        if let Some(cave) = &cave {
+            // The CAVE's viewer stands in the middle of the scene, facing the camera's way;
+            // the fly camera carries the CAVE from there.
+            fly.camera.position = cave.center;
+            fly.camera.target = cave.center + cave.forward;
+        }
+        let frame = Frame::new(&gpu, &scene, args.frame.options())?;
+        let settings = args.gi.lpv_settings().unwrap_or_default();
+        let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, FRAMES_IN_FLIGHT)?;
+        ring.profiler
+            .add_note(format!("queue plan: {}", gpu.queues.describe()));
+        let overlay = Overlay::new(&gpu, FRAMES_IN_FLIGHT)?;
+        let mut running = Running {
+            outputs,
+            overlay,
+            technique: None,
+            frame,
+            ring,
+            gpu,
+            scene,
+            fly,
+            cave,
+            method: args.gi.method,
+            settings,
+            status: String::new(),
+            held: HashSet::new(),
+            dragging: false,
+            cursor: None,
+            resize_pending: false,
+            help: false,
+            direct_only: false,
+            last_redraw: Instant::now(),
+            frame_seconds: VecDeque::new(),
+            frames_shown: 0,
+            screenshots: 0,
+            recording_profile: args.profile.wanted(),
+        };
+        running.rebuild_technique()?;
+        running.layout()?;
+        Ok(running)
+    }
+
+    /// Make the GI technique for the current method and settings.
+    fn rebuild_technique(&mut self) -> anyhow::Result<()> {
+        self.ring.finish()?;
+        self.gpu.wait_idle()?;
+        let scheme = match self.method {
+            Method::None => {
+                self.technique = None;
+                return Ok(());
+            }
+            Method::Lpv => Scheme::Lpv,
+            Method::Ilpv => Scheme::Ilpv,
+        };
+        let settings = LpvSettings {
+            scheme,
+            ..self.settings.clone()
+        };
+        self.technique = Some(Box::new(Lpv::new(&self.gpu, &self.scene, settings)?));
+        Ok(())
+    }
+
+    /// Try new settings; keep the old ones (and say why) when the technique rejects them.
+    fn change_settings(&mut self, change: impl FnOnce(&mut LpvSettings)) -> anyhow::Result<()> {
+        let previous = self.settings.clone();
+        change(&mut self.settings);
+        match self.rebuild_technique() {
+            Ok(()) => self.status.clear(),
+            Err(e) if super::is_input_error(&e) => {
+                self.status = format!("{e:#}").to_uppercase();
+                self.settings = previous;
+                self.rebuild_technique()?;
+            }
+            Err(e) => return Err(e),
+        }
+        Ok(())
+    }
+
+    /// Size the views to the windows and place them: the whole window, or the CAVE's walls.
+    fn layout(&mut self) -> anyhow::Result<()> {
+        self.ring.finish()?;
+        self.gpu.wait_idle()?;
+        for output in &mut self.outputs {
+            output.resize(&self.gpu)?;
+        }
+        let (w, h) = self.outputs[0].size();
+        let side = match self.cave {
+            None => {
+                self.outputs[0].tiles = vec![crate::view::output::Tile {
+                    view: 0,
+                    rect: [0, 0, w as i32, h as i32],
+                }];
+                let eyes = self.eyes(w, h);
+                self.frame.resize(&self.gpu, w, h, &eyes)?;
+                return Ok(());
+            }
+            Some(_) if self.outputs.len() > 1 => {
+                for (view, output) in self.outputs.iter_mut().enumerate() {
+                    let (ow, oh) = output.size();
+                    output.tiles = vec![crate::view::output::Tile {
+                        view,
+                        rect: [0, 0, ow as i32, oh as i32],
+                    }];
+                }
+                w.min(h)
+            }
+            Some(_) => {
+                let (side, tiles) = cave_tiles(w, h);
+                self.outputs[0].tiles = tiles;
+                side
+            }
+        };
+        let eyes = self.eyes(side, side);
+        self.frame.resize(&self.gpu, side, side, &eyes)?;
+        Ok(())
+    }
+
+    /// The eyes of every view for views of `w` x `h`.
+    fn eyes(&mut self, w: u32, h: u32) -> Vec<Eye> {
+        match &mut self.cave {
+            None => vec![Eye::from_camera(&self.fly.camera, &self.scene, w, h)],
+            Some(cave) => {
+                cave.center = self.fly.camera.position;
+                cave.forward = horizontal(self.fly.forward());
+                cave.eyes(&self.scene)
+            }
+        }
+    }
+
+    fn key(&mut self, event: &KeyEvent) -> anyhow::Result<Flow> {
+        let PhysicalKey::Code(code) = event.physical_key else {
+            return Ok(Flow::Continue);
+        };
+        if event.state == ElementState::Released {
+            self.held.remove(&code);
+            return Ok(Flow::Continue);
+        }
+        self.held.insert(code);
+        if event.repeat {
+            return Ok(Flow::Continue);
+        }
+        match code {
+            KeyCode::Escape => return Ok(Flow::Close),
+            KeyCode::F1 => self.help = !self.help,
+            KeyCode::KeyP | KeyCode::F12 => {
+                self.screenshots += 1;
+                let prefix = PathBuf::from(format!("vkgi-screenshot-{}", self.screenshots));
+                self.screenshot(&prefix)?;
+                self.status = format!("SAVED {}", prefix.display()).to_uppercase();
+            }
+            KeyCode::KeyM => {
+                self.method = match self.method {
+                    Method::None => Method::Lpv,
+                    Method::Lpv => Method::Ilpv,
+                    Method::Ilpv => Method::None,
+                };
+                self.change_settings(|_| {})?;
+            }
+            KeyCode::BracketLeft => self.change_settings(|s| s.lattice = s.lattice.max(3) - 2)?,
+            KeyCode::BracketRight => self.change_settings(|s| s.lattice += 2)?,
+            KeyCode::Comma => self.change_settings(|s| s.iterations = s.iterations.max(2) - 1)?,
+            KeyCode::Period => self.change_settings(|s| s.iterations += 1)?,
+            KeyCode::Minus => self.change_settings(|s| {
+                s.incremental = ((s.incremental - 0.05) * 100.0).round().max(0.0) / 100.0
+            })?,
+            KeyCode::Equal => self.change_settings(|s| {
+                s.incremental = ((s.incremental + 0.05) * 100.0).round().min(99.0) / 100.0
+            })?,
+            KeyCode::KeyI => {
+                self.frame.options.indirect_only = !self.frame.options.indirect_only;
+                self.direct_only = false;
+            }
+            KeyCode::KeyO => {
+                self.direct_only = !self.direct_only;
+                self.frame.options.indirect_only = false;
+            }
+            _ => {}
+        }
+        Ok(Flow::Continue)
+    }
+
+    /// Apply held keys for `seconds`: fly the camera, move the light.
+    fn apply_held_keys(&mut self, seconds: f32) {
+        let axis = |plus: KeyCode, minus: KeyCode| {
+            f32::from(u8::from(self.held.contains(&plus)))
+                - f32::from(u8::from(self.held.contains(&minus)))
+        };
+        let travel = Vec3::new(
+            axis(KeyCode::KeyD, KeyCode::KeyA),
+            axis(KeyCode::KeyE, KeyCode::KeyQ),
+            axis(KeyCode::KeyW, KeyCode::KeyS),
+        );
+        self.fly.travel(travel, seconds);
+        let light = Vec3::new(
+            axis(KeyCode::ArrowRight, KeyCode::ArrowLeft),
+            axis(KeyCode::PageUp, KeyCode::PageDown),
+            axis(KeyCode::ArrowDown, KeyCode::ArrowUp),
+        );
+        if light != Vec3::ZERO && !self.scene.lights.is_empty() {
+            let step = light * 0.5 * self.fly.speed * seconds;
+            self.scene.lights[0].position += step;
+            self.frame.set_lights(&self.scene);
+        }
+    }
+
+    fn redraw(&mut self, args: &ViewArgs) -> anyhow::Result<Flow> {
+        let now = Instant::now();
+        let seconds = (now - self.last_redraw).as_secs_f32().min(0.25);
+        self.last_redraw = now;
+        self.apply_held_keys(seconds);
+        if self.resize_pending {
+            self.resize_pending = false;
+            self.layout()?;
+        }
+        if self.outputs.iter().any(|o| {
+            let s = o.window.inner_size();
+            s.width == 0 || s.height == 0
+        }) {
+            return Ok(Flow::Continue); // minimised: nothing to show
+        }
+        let (w, h) = (self.frame.options.width, self.frame.options.height);
+        let eyes = self.eyes(w, h);
+        self.frame.set_eyes(&eyes);
+        if !self.render()? {
+            self.resize_pending = true;
+            return Ok(Flow::Continue);
+        }
+        self.frames_shown += 1;
+        self.frame_seconds.push_back(seconds);
+        if self.frame_seconds.len() > 30 {
+            self.frame_seconds.pop_front();
+        }
+        if let (Some(frames), Some((rw, rh))) = (args.frames, args.resize_to)
+            && self.frames_shown == frames / 2
+        {
+            let _ = self.outputs[0]
+                .window
+                .request_inner_size(PhysicalSize::new(rw, rh));
+        }
+        match args.frames {
+            Some(frames) if self.frames_shown >= frames => Ok(Flow::Close),
+            _ => Ok(Flow::Continue),
+        }
+    }
+
+    /// Render and present one frame; false when a swapchain is out of date.
+    fn render(&mut self) -> anyhow::Result<bool> {
+        let lines = self.overlay_lines();
+        let builder = self.ring.begin_frame()?;
+        let slot = builder.slot();
+        let mut acquired = Vec::new();
+        for output in &self.outputs {
+            match output.acquire(slot)? {
+                Some(a) => acquired.push(a),
+                None => return Ok(false),
+            }
+        }
+        self.overlay.set_text(slot, &lines)?;
+        let waits: Vec<SemaphoreWait> = acquired
+            .iter()
+            .map(|a| SemaphoreWait {
+                semaphore: a.ready,
+                value: 0,
+                stage: vk::PipelineStageFlags2::BLIT,
+            })
+            .collect();
+        let signals: Vec<(vk::Semaphore, u64)> = acquired.iter().map(|a| (a.rendered, 0)).collect();
+        let (outputs, overlay) = (&self.outputs, &self.overlay);
+        let record = |rec: &mut crate::gpu::Recorder, frame: &Frame| {
+            for (index, (output, image)) in outputs.iter().zip(&acquired).enumerate() {
+                output.record_compose(rec, frame);
+                if index == 0 {
+                    overlay.record(rec, slot, &output.composed)?;
+                }
+                output.record_present(rec, image);
+            }
+            Ok(())
+        };
+        let epilogue = Epilogue {
+            waits: &waits,
+            signals: &signals,
+            record: &record,
+        };
+        let gi = match (&mut self.technique, self.direct_only) {
+            (Some(t), false) => Some(t.as_mut() as &mut dyn Technique),
+            _ => None,
+        };
+        self.frame
+            .submit_frame(&self.gpu, builder, gi, Some(&epilogue))?;
+        let presents: Vec<_> = outputs
+            .iter()
+            .map(|o| o.swapchain())
+            .zip(acquired.iter().copied())
+            .collect();
+        let current =
+            crate::gpu::swapchain::Swapchain::present(&self.gpu.queues.graphics, &presents)?;
+        Ok(current)
+    }
+
+    /// The overlay: method and settings, frame rate, per-pass GPU milliseconds, help.
+    fn overlay_lines(&mut self) -> Vec<String> {
+        let s = &self.settings;
+        let method = match self.method {
+            Method::None => "DIRECT LIGHT ONLY (NO GI)".to_string(),
+            Method::Lpv | Method::Ilpv => format!(
+                "{:?}  LATTICE {}  ITERATIONS {}  LAMBDA {:.2}",
+                self.method, s.lattice, s.iterations, s.incremental
+            )
+            .to_uppercase(),
+        };
+        let mode = if self.direct_only {
+            "  DIRECT ONLY"
+        } else if self.frame.options.indirect_only {
+            "  INDIRECT ONLY"
+        } else {
+            ""
+        };
+        let seconds: f32 =
+            self.frame_seconds.iter().sum::<f32>() / self.frame_seconds.len().max(1) as f32;
+        let fps = if seconds > 0.0 { 1.0 / seconds } else { 0.0 };
+        let views = self.frame.views.len();
+        let mut lines = vec![
+            format!("{method}{mode}"),
+            format!(
+                "{fps:.1} FPS  {views} VIEW{}  {}X{}",
+                if views == 1 { "" } else { "S" },
+                self.frame.options.width,
+                self.frame.options.height
+            ),
+        ];
+        let passes = self.recent_pass_ms();
+        lines.extend(
+            passes
+                .iter()
+                .map(|(name, ms)| format!("{:<22}{ms:>8.2} MS", name.to_uppercase())),
+        );
+        if !self.status.is_empty() {
+            lines.push(self.status.clone());
+        }
+        if self.help {
+            lines.extend(HELP.iter().map(|l| l.to_string()));
+        } else {
+            lines.push("F1  KEYS".into());
+        }
+        lines
+    }
+
+    /// Per-pass GPU milliseconds per frame over the last collected frames, frame total first.
+    fn recent_pass_ms(&mut self) -> Vec<(String, f64)> {
+        let profiler = &mut self.ring.profiler;
+        let samples = profiler.samples();
+        let Some(last) = samples.iter().map(|s| s.frame).max() else {
+            return Vec::new();
+        };
+        let first = last.saturating_sub(OVERLAY_FRAMES - 1);
+        let frames = samples
+            .iter()
+            .filter(|s| s.frame >= first)
+            .map(|s| s.frame)
+            .collect::<HashSet<_>>()
+            .len()
+            .max(1) as f64;
+        let mut totals: Vec<(String, f64)> = Vec::new();
+        for sample in samples.iter().filter(|s| s.frame >= first) {
+            let group = pass_group(&sample.name);
+            match totals.iter_mut().find(|(name, _)| *name == group) {
+                Some(entry) => entry.1 += sample.duration_ns,
+                None => totals.push((group, sample.duration_ns)),
+            }
+        }
+        for entry in &mut totals {
+            entry.1 /= frames * 1e6;
+        }
+        // The frame first, then the costliest passes.
+        totals.sort_by(|a, b| {
+            (a.0 != FRAME_SCOPE)
+                .cmp(&(b.0 != FRAME_SCOPE))
+                .then(b.1.total_cmp(&a.1))
+        });
+        totals.truncate(OVERLAY_PASSES + 1);
+        if samples.len() > MAX_LIVE_SAMPLES && !self.recording_profile {
+            profiler.clear();
+        }
+        totals
+    }
+
+    /// Save the first view (PNG, EXR) and the first window with its overlay (PNG).
+    fn screenshot(&mut self, prefix: &Path) -> anyhow::Result<()> {
+        self.ring.finish()?;
+        self.gpu.wait_idle()?;
+        let with = |suffix: &str| {
+            let mut name = prefix.as_os_str().to_owned();
+            name.push(suffix);
+            PathBuf::from(name)
+        };
+        let view = self.frame.view();
+        let size = (view.width(), view.height());
+        output::write_images(
+            Some(&with(".png")),
+            Some(&with(".exr")),
+            || Ok(self.frame.read_ldr(&self.gpu)?),
+            || {
+                Ok(HdrImage::new(
+                    size.0,
+                    size.1,
+                    self.frame.read_hdr(&self.gpu)?,
+                ))
+            },
+            size,
+        )?;
+        let composed = &self.outputs[0].composed;
+        let window_size = (composed.width(), composed.height());
+        output::write_images(
+            Some(&with("-window.png")),
+            None,
+            || Ok(self.gpu.read_image(composed)?),
+            || anyhow::bail!("no EXR of the window is written"),
+            window_size,
+        )?;
+        println!("saved {}.png, .exr and -window.png", prefix.display());
+        Ok(())
+    }
+
+    /// Finish every frame, save what was asked, write the profile, check validation.
+    fn shut_down(&mut self, args: &ViewArgs) -> anyhow::Result<()> {
+        self.ring.finish()?;
+        self.gpu.wait_idle()?;
+        if let Some(prefix) = &args.screenshot {
+            self.screenshot(prefix)?;
+        }
+        output::write_profile(&args.profile, &self.ring.profiler)?;
+        check_validation(&self.gpu)
+    }
+}
+
+/// A pass's name without its colour channel, step or view number ("propagate R step 3" ->
+/// "propagate"), so the overlay sums a pass's runs in a frame.
+fn pass_group(name: &str) -> String {
+    let mut words = Vec::new();
+    let mut skip_number = false;
+    for word in name.split_whitespace() {
+        let number = word.chars().all(|c| c.is_ascii_digit());
+        if matches!(word, "R" | "G" | "B") || (skip_number && number) {
+            continue;
+        }
+        skip_number = matches!(word, "step" | "view");
+        if !skip_number {
+            words.push(word);
+        }
+    }
+    words.join(" ")
+}
+
+/// A unit horizontal direction close to `v` (the CAVE stands upright).
+fn horizontal(v: Vec3) -> Vec3 {
+    Vec3::new(v.x, 0.0, v.z).normalize_or(Vec3::NEG_Z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pass_groups_drop_channels_steps_and_views() {
+        assert_eq!(pass_group("propagate R step 3"), "propagate");
+        assert_eq!(pass_group("rsm view 0"), "rsm");
+        assert_eq!(pass_group("g-buffer"), "g-buffer");
+        assert_eq!(pass_group("compensate B step 12"), "compensate");
+    }
+}

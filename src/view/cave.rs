@@ -1,0 +1,212 @@
+//! The CAVE of seed 000: a cube of projection walls around a tracked head. Each wall is a
+//! window into the scene, rendered with an off-axis (asymmetric) frustum from the head
+//! (Kooima's generalised perspective projection), so walls meet seamlessly at their edges.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::frame::Eye;
+use crate::scene::Scene;
+
+/// A wall: its lower-left corner and the vectors along its bottom and left edges, as seen
+/// from inside the cube.
+#[derive(Clone, Copy, Debug)]
+pub struct Wall {
+    pub name: &'static str,
+    pub corner: Vec3,
+    pub right: Vec3,
+    pub up: Vec3,
+}
+
+/// Tiles across and down in the window of a tiled CAVE.
+pub const TILES: (u32, u32) = (3, 2);
+
+/// A cube of walls: front, left, right and floor.
+#[derive(Clone, Copy, Debug)]
+pub struct Cave {
+    pub center: Vec3,
+    pub half_size: f32,
+    /// Unit horizontal direction the front wall faces the viewer from.
+    pub forward: Vec3,
+    /// The tracked head, relative to the centre in half-sizes: (right, up, back).
+    pub head_offset: Vec3,
+}
+
+impl Cave {
+    /// A CAVE in the middle of the scene, facing the way its camera looks, with walls of
+    /// `size` times the scene's diagonal.
+    pub fn centred(scene: &Scene, size: f32, head_offset: Vec3) -> Cave {
+        let extent = (scene.bounds_max - scene.bounds_min).length().max(1e-3);
+        let look = scene.camera.target - scene.camera.position;
+        Cave {
+            center: 0.5 * (scene.bounds_min + scene.bounds_max),
+            half_size: 0.5 * size * extent,
+            forward: Vec3::new(look.x, 0.0, look.z).normalize_or(Vec3::NEG_Z),
+            head_offset,
+        }
+    }
+
+    /// The walls in view order: front, left, right, floor.
+    pub fn walls(&self) -> [Wall; 4] {
+        let (c, h) = (self.center, self.half_size);
+        let f = self.forward;
+        let r = f.cross(Vec3::Y).normalize();
+        let u = Vec3::Y;
+        [
+            Wall {
+                name: "front",
+                corner: c + (f - r - u) * h,
+                right: r * 2.0 * h,
+                up: u * 2.0 * h,
+            },
+            Wall {
+                name: "left",
+                corner: c + (-r - f - u) * h,
+                right: f * 2.0 * h,
+                up: u * 2.0 * h,
+            },
+            Wall {
+                name: "right",
+                corner: c + (r + f - u) * h,
+                right: -f * 2.0 * h,
+                up: u * 2.0 * h,
+            },
+            Wall {
+                name: "floor",
+                corner: c + (-u - r - f) * h,
+                right: r * 2.0 * h,
+                up: f * 2.0 * h,
+            },
+        ]
+    }
+
+    /// The tracked head in world space.
+    pub fn head(&self) -> Vec3 {
+        let r = self.forward.cross(Vec3::Y).normalize();
+        let o = self.head_offset * self.half_size;
+        self.center + r * o.x + Vec3::Y * o.y - self.forward * o.z
+    }
+
+    /// One eye per wall, from the head, with clip planes enclosing the scene.
+    pub fn eyes(&self, scene: &Scene) -> Vec<Eye> {
+        let head = self.head();
+        let (lo, hi) = (scene.bounds_min, scene.bounds_max);
+        let extent = (hi - lo).length().max(1e-3);
+        let far = (0.5 * (lo + hi) - head).length() + extent;
+        let near = (extent * 1e-3).min(far * 1e-3);
+        self.walls()
+            .iter()
+            .map(|wall| Eye {
+                view_projection: off_axis(head, wall, near, far),
+                position: head,
+            })
+            .collect()
+    }
+}
+
+/// World-to-clip matrix (Vulkan: depth 0..1, y down) of the frustum from `eye` through
+/// `wall`, clipped at `near` and `far`.
+pub fn off_axis(eye: Vec3, wall: &Wall, near: f32, far: f32) -> Mat4 {
+    let vr = wall.right.normalize();
+    let vu = wall.up.normalize();
+    let vn = vr.cross(vu).normalize();
+    let va = wall.corner - eye;
+    let vb = wall.corner + wall.right - eye;
+    let vc = wall.corner + wall.up - eye;
+    let distance = (-va.dot(vn)).max(1e-6);
+    let scale = near / distance;
+    let (l, r) = (vr.dot(va) * scale, vr.dot(vb) * scale);
+    let (b, t) = (vu.dot(va) * scale, vu.dot(vc) * scale);
+    let projection = Mat4::from_cols(
+        Vec4::new(2.0 * near / (r - l), 0.0, 0.0, 0.0),
+        Vec4::new(0.0, -2.0 * near / (t - b), 0.0, 0.0),
+        Vec4::new(
+            (r + l) / (r - l),
+            -(t + b) / (t - b),
+            far / (near - far),
+            -1.0,
+        ),
+        Vec4::new(0.0, 0.0, near * far / (near - far), 0.0),
+    );
+    let rotation = Mat4::from_cols(
+        Vec4::new(vr.x, vu.x, vn.x, 0.0),
+        Vec4::new(vr.y, vu.y, vn.y, 0.0),
+        Vec4::new(vr.z, vu.z, vn.z, 0.0),
+        Vec4::W,
+    );
+    projection * rotation * Mat4::from_translation(-eye)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::camera::rh::{proj::vulkan, view::look_at_mat4};
+
+    fn cave(head_offset: Vec3) -> Cave {
+        Cave {
+            center: Vec3::new(1.0, 2.0, 3.0),
+            half_size: 0.5,
+            forward: Vec3::NEG_Z,
+            head_offset,
+        }
+    }
+
+    #[test]
+    fn centred_head_sees_the_front_wall_as_a_90_degree_camera() {
+        let c = cave(Vec3::ZERO);
+        let m = off_axis(c.head(), &c.walls()[0], 0.1, 50.0);
+        let expected = vulkan::perspective(90f32.to_radians(), 1.0, 0.1, 50.0)
+            * look_at_mat4(c.center, c.center + Vec3::NEG_Z, Vec3::Y);
+        assert!(m.abs_diff_eq(expected, 1e-5), "{m} vs {expected}");
+    }
+
+    #[test]
+    fn every_wall_maps_its_corners_to_the_image_corners_from_an_offset_head() {
+        let c = cave(Vec3::new(0.3, -0.2, 0.4));
+        for wall in c.walls() {
+            let m = off_axis(c.head(), &wall, 0.01, 100.0);
+            let ndc = |p: Vec3| {
+                let clip = m * p.extend(1.0);
+                clip.truncate() / clip.w
+            };
+            let lower_left = ndc(wall.corner);
+            let upper_right = ndc(wall.corner + wall.right + wall.up);
+            // Lower left of the wall is the image's bottom-left (Vulkan y down: +1).
+            assert!(
+                (lower_left.x + 1.0).abs() < 1e-4,
+                "{}: {lower_left}",
+                wall.name
+            );
+            assert!(
+                (lower_left.y - 1.0).abs() < 1e-4,
+                "{}: {lower_left}",
+                wall.name
+            );
+            assert!(
+                (upper_right.x - 1.0).abs() < 1e-4,
+                "{}: {upper_right}",
+                wall.name
+            );
+            assert!(
+                (upper_right.y + 1.0).abs() < 1e-4,
+                "{}: {upper_right}",
+                wall.name
+            );
+            assert!((0.0..1.0).contains(&lower_left.z));
+        }
+    }
+
+    #[test]
+    fn adjacent_walls_share_their_edges() {
+        let [front, left, right, floor] = cave(Vec3::ZERO).walls();
+        let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-6;
+        // front's left edge = left's right edge; front's right edge = right's left edge.
+        assert!(close(front.corner, left.corner + left.right));
+        assert!(close(front.corner + front.right, right.corner));
+        // front's bottom edge = floor's top edge.
+        assert!(close(front.corner, floor.corner + floor.up));
+        assert!(close(
+            front.corner + front.right,
+            floor.corner + floor.up + floor.right
+        ));
+    }
+}

@@ -1,0 +1,299 @@
+//! The windowed renderer under Xvfb (each test starts its own virtual display with xvfb-run,
+//! one at a time), and the CAVE's shared lattice and seams on the headless frame.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::Mutex;
+
+use glam::Vec3;
+use vkgi::frame::{Frame, FrameOptions};
+use vkgi::gi::lpv::{Lpv, LpvSettings};
+use vkgi::gpu::frames::FrameRing;
+use vkgi::scene::Scene;
+use vkgi::view::cave::Cave;
+
+mod common;
+
+/// xvfb-run -a picks a display number racily; windows open one test at a time.
+static DISPLAY: Mutex<()> = Mutex::new(());
+
+/// Run `vkgi` with a virtual X display, validation on.
+fn vkgi_windowed(args: &[&str]) -> Output {
+    let _one_at_a_time = DISPLAY.lock().unwrap_or_else(|e| e.into_inner());
+    Command::new("xvfb-run")
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 1024x768x24",
+            env!("CARGO_BIN_EXE_vkgi"),
+        ])
+        .args(args)
+        .env("VKGI_VALIDATE", "1")
+        .env("RUST_BACKTRACE", "0")
+        .output()
+        .expect("xvfb-run runs (Debian package xvfb)")
+}
+
+fn vkgi(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vkgi"))
+        .args(args)
+        .env("VKGI_VALIDATE", "1")
+        .output()
+        .expect("the vkgi binary runs")
+}
+
+fn assert_success(output: &Output) {
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "vkgi failed: {stderr}");
+    assert!(
+        !stderr.contains("validation:"),
+        "validation messages: {stderr}"
+    );
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("vkgi-view-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn rgba(path: &Path) -> image::RgbaImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+        .to_rgba8()
+}
+
+#[test]
+fn the_window_renders_30_frames_and_its_screenshot_equals_the_headless_render() {
+    let dir = scratch("match");
+    let shot = dir.join("shot");
+    let common = [
+        "--scene", "cornell", "--size", "160x120", "--method", "ilpv",
+    ];
+    let mut view = vec![
+        "view",
+        "--frames",
+        "30",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ];
+    view.extend(common);
+    assert_success(&vkgi_windowed(&view));
+    let headless = dir.join("headless.png");
+    let mut render = vec![
+        "render",
+        "--frames",
+        "30",
+        "--out",
+        headless.to_str().unwrap(),
+    ];
+    render.extend(common);
+    assert_success(&vkgi(&render));
+
+    let (window, headless) = (rgba(&dir.join("shot.png")), rgba(&headless));
+    assert_eq!(window.dimensions(), (160, 120));
+    let differences: Vec<i32> = window
+        .pixels()
+        .zip(headless.pixels())
+        .flat_map(|(a, b)| (0..3).map(move |c| (i32::from(a[c]) - i32::from(b[c])).abs()))
+        .collect();
+    let worst = differences.iter().copied().max().unwrap();
+    let mean = differences.iter().sum::<i32>() as f64 / differences.len() as f64;
+    assert!(
+        worst <= 2 && mean < 0.05,
+        "worst {worst}/255, mean {mean}/255"
+    );
+    let brightness = headless.pixels().map(|p| u64::from(p[1])).sum::<u64>();
+    assert!(brightness > 0, "the image is not black");
+
+    // The window image is the view plus the overlay: same size, and the overlay darkened or
+    // wrote text into its top-left corner.
+    let composed = rgba(&dir.join("shot-window.png"));
+    assert_eq!(composed.dimensions(), (160, 120));
+    let overlay_changed = (8..40)
+        .flat_map(|y| (8..150).map(move |x| (x, y)))
+        .filter(|&(x, y)| composed.get_pixel(x, y) != window.get_pixel(x, y))
+        .count();
+    assert!(overlay_changed > 500, "overlay pixels: {overlay_changed}");
+    assert!(dir.join("shot.exr").exists());
+}
+
+#[test]
+fn resizing_the_window_rebuilds_the_swapchain_and_views_without_validation_errors() {
+    let dir = scratch("resize");
+    let shot = dir.join("shot");
+    assert_success(&vkgi_windowed(&[
+        "view",
+        "--size",
+        "160x120",
+        "--frames",
+        "12",
+        "--resize-to",
+        "200x150",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]));
+    assert_eq!(rgba(&dir.join("shot-window.png")).dimensions(), (200, 150));
+    assert_eq!(rgba(&dir.join("shot.png")).dimensions(), (200, 150));
+}
+
+#[test]
+fn the_cave_opens_tiled_and_in_one_window_per_wall() {
+    let dir = scratch("cave");
+    let shot = dir.join("tiled");
+    assert_success(&vkgi_windowed(&[
+        "view",
+        "--cave",
+        "--size",
+        "240x160",
+        "--frames",
+        "4",
+        "--screenshot",
+        shot.to_str().unwrap(),
+    ]));
+    assert_eq!(rgba(&dir.join("tiled.png")).dimensions(), (80, 80));
+    assert_success(&vkgi_windowed(&[
+        "view",
+        "--cave",
+        "--cave-windows",
+        "--size",
+        "96x96",
+        "--frames",
+        "3",
+    ]));
+}
+
+#[test]
+fn view_rejects_bad_input_and_a_missing_display_with_one_line() {
+    let output = vkgi(&["view", "--size", "0x0"]);
+    assert_eq!(output.status.code(), Some(2));
+    let output = Command::new(env!("CARGO_BIN_EXE_vkgi"))
+        .args(["view", "--frames", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!output.status.success());
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("needs a display"), "{stderr}");
+}
+
+/// The CAVE's four walls from its centre, rendered headless: indirect light of each wall.
+fn cave_frame(
+    gpu: &vkgi::gpu::Gpu,
+    scene: &Scene,
+    side: u32,
+) -> (Frame, Lpv, FrameRing, Vec<Vec<[f32; 3]>>) {
+    let cave = Cave::centred(scene, 0.2, Vec3::new(0.2, 0.1, 0.3));
+    let options = FrameOptions {
+        indirect_only: true,
+        ..common::indirect_only(side, side)
+    };
+    let frame = Frame::with_eyes(gpu, scene, options, &cave.eyes(scene)).expect("frame");
+    let mut lpv = Lpv::new(gpu, scene, LpvSettings::default()).expect("lpv");
+    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("ring");
+    for _ in 0..12 {
+        frame.submit(gpu, &mut ring, Some(&mut lpv)).expect("frame");
+    }
+    ring.finish().expect("finish");
+    let walls = (0..4)
+        .map(|v| frame.read_view_hdr(gpu, v).expect("readback"))
+        .collect();
+    (frame, lpv, ring, walls)
+}
+
+#[test]
+fn cave_walls_agree_along_their_shared_edges() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let n = 64usize;
+    let (_, _, _, walls) = cave_frame(&gpu, &scene, n as u32);
+    let [front, left, right, floor] = [&walls[0], &walls[1], &walls[2], &walls[3]];
+    let at = |wall: &Vec<[f32; 3]>, x: usize, y: usize| common::luminance(wall[y * n + x]);
+    // Relative difference of two pixel runs, over the run's mean.
+    let difference = |pairs: Vec<(f32, f32)>| {
+        let diff: f32 = pairs.iter().map(|(a, b)| (a - b).abs()).sum();
+        let mean: f32 = pairs.iter().map(|(a, b)| 0.5 * (a + b)).sum();
+        assert!(mean > 0.0, "the seam is lit");
+        diff / mean
+    };
+    let seams = [
+        (
+            "front|right",
+            difference(
+                (0..n)
+                    .map(|y| (at(front, n - 1, y), at(right, 0, y)))
+                    .collect(),
+            ),
+        ),
+        (
+            "left|front",
+            difference(
+                (0..n)
+                    .map(|y| (at(left, n - 1, y), at(front, 0, y)))
+                    .collect(),
+            ),
+        ),
+        (
+            "front/floor",
+            difference(
+                (0..n)
+                    .map(|x| (at(front, x, n - 1), at(floor, x, 0)))
+                    .collect(),
+            ),
+        ),
+    ];
+    // Control: edges that do not meet (front's right edge against right's far edge).
+    let apart = difference(
+        (0..n)
+            .map(|y| (at(front, n - 1, y), at(right, n - 1, y)))
+            .collect(),
+    );
+    println!("seam differences {seams:?}, edges apart {apart}");
+    for (name, seam) in seams {
+        assert!(
+            seam < 0.1 && seam < 0.3 * apart,
+            "{name}: {seam} (edges apart: {apart})"
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn the_gi_light_is_computed_once_per_frame_however_many_views() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let (_, _, cave_ring, _) = cave_frame(&gpu, &scene, 32);
+    let count = |ring: &FrameRing, prefix: &str| {
+        let samples = ring.profiler.samples();
+        let frames = samples
+            .iter()
+            .map(|s| s.frame)
+            .collect::<std::collections::HashSet<_>>();
+        let runs = samples
+            .iter()
+            .filter(|s| s.name.starts_with(prefix))
+            .count();
+        runs as f64 / frames.len() as f64
+    };
+    let mut single_ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
+    let frame = Frame::new(&gpu, &scene, common::indirect_only(32, 32)).unwrap();
+    let mut lpv = Lpv::new(&gpu, &scene, LpvSettings::default()).unwrap();
+    for _ in 0..12 {
+        frame
+            .submit(&gpu, &mut single_ring, Some(&mut lpv))
+            .unwrap();
+    }
+    single_ring.finish().unwrap();
+    for pass in ["propagate", "inject", "rsm"] {
+        let (one, four) = (count(&single_ring, pass), count(&cave_ring, pass));
+        assert!(one > 0.0, "{pass} runs");
+        assert_eq!(one, four, "{pass} per frame: 1 view {one}, 4 views {four}");
+    }
+    assert_eq!(count(&single_ring, "g-buffer"), 1.0);
+    assert_eq!(count(&cave_ring, "g-buffer"), 4.0);
+    assert_eq!(count(&cave_ring, "lpv lookup"), 4.0);
+    common::assert_no_validation_errors(&gpu);
+}
