@@ -19,8 +19,14 @@ static DISPLAY: Mutex<()> = Mutex::new(());
 
 /// Run `vkgi` with a virtual X display, validation on.
 fn vkgi_windowed(args: &[&str]) -> Output {
+    vkgi_windowed_in(&std::env::temp_dir(), args)
+}
+
+/// As [`vkgi_windowed`], in the working directory `dir`.
+fn vkgi_windowed_in(dir: &Path, args: &[&str]) -> Output {
     let _one_at_a_time = DISPLAY.lock().unwrap_or_else(|e| e.into_inner());
     Command::new("xvfb-run")
+        .current_dir(dir)
         .args([
             "-a",
             "-s",
@@ -162,6 +168,51 @@ fn the_cave_opens_tiled_and_in_one_window_per_wall() {
         "--frames",
         "3",
     ]));
+}
+
+#[test]
+fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
+    let dir = scratch("keys");
+    let profile = dir.join("profile.json");
+    // Per frame: none, lpv, ilpv, lattice +2, steps +1, λ +0.05, light right, indirect only,
+    // direct only, screenshot, help.
+    let output = vkgi_windowed_in(
+        &dir,
+        &[
+            "view",
+            "--size",
+            "96x72",
+            "--frames",
+            "11",
+            "--keys",
+            "m,m,m,],.,=,right,i,o,p,f1",
+            "--profile-json",
+            profile.to_str().unwrap(),
+        ],
+    );
+    assert_success(&output);
+    for file in [
+        "vkgi-screenshot-1.png",
+        "vkgi-screenshot-1.exr",
+        "vkgi-screenshot-1-window.png",
+    ] {
+        assert!(dir.join(file).exists(), "{file} was saved");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap();
+    assert_eq!(report["frames"], 11);
+    let runs = |name: &str| {
+        report["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == name)
+            .map_or(0, |p| p["per_frame_ns"].as_array().unwrap().len())
+    };
+    // GI runs in frames 1-7: not after "m" (none) in frame 0, nor once "o" (direct only) is on.
+    assert_eq!(runs("inject"), 7);
+    assert_eq!(runs("g-buffer"), 11);
+    assert_eq!(runs("update lights"), 1, "the light moved once");
 }
 
 #[test]

@@ -265,6 +265,11 @@ pub struct ViewArgs {
     /// Ask the window for this size half-way through --frames (tests resizing).
     #[arg(long, value_parser = parse_size, requires = "frames")]
     pub resize_to: Option<(u32, u32)>,
+    /// Press these keys, one per frame from the first, each held for that frame (scripts and
+    /// tests), e.g. "m,],right,i,p". Names: a-z, 0-9, f1-f12, left, right, up, down, pageup,
+    /// pagedown, [, ], comma, ., -, =, esc.
+    #[arg(long, value_delimiter = ',', value_parser = parse_key)]
+    pub keys: Vec<winit::keyboard::KeyCode>,
     #[command(flatten)]
     pub gi: GiArgs,
     #[command(flatten)]
@@ -411,6 +416,90 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
             .map_err(|_| format!("'{text}' is not WIDTHxHEIGHT with whole numbers"))
     };
     Ok((parse(w)?, parse(h)?))
+}
+
+/// Parse a key name of `--keys`.
+pub fn parse_key(text: &str) -> Result<winit::keyboard::KeyCode, String> {
+    use winit::keyboard::KeyCode as K;
+    let name = text.trim().to_ascii_lowercase();
+    let letters = [
+        K::KeyA,
+        K::KeyB,
+        K::KeyC,
+        K::KeyD,
+        K::KeyE,
+        K::KeyF,
+        K::KeyG,
+        K::KeyH,
+        K::KeyI,
+        K::KeyJ,
+        K::KeyK,
+        K::KeyL,
+        K::KeyM,
+        K::KeyN,
+        K::KeyO,
+        K::KeyP,
+        K::KeyQ,
+        K::KeyR,
+        K::KeyS,
+        K::KeyT,
+        K::KeyU,
+        K::KeyV,
+        K::KeyW,
+        K::KeyX,
+        K::KeyY,
+        K::KeyZ,
+    ];
+    let digits = [
+        K::Digit0,
+        K::Digit1,
+        K::Digit2,
+        K::Digit3,
+        K::Digit4,
+        K::Digit5,
+        K::Digit6,
+        K::Digit7,
+        K::Digit8,
+        K::Digit9,
+    ];
+    let functions = [
+        K::F1,
+        K::F2,
+        K::F3,
+        K::F4,
+        K::F5,
+        K::F6,
+        K::F7,
+        K::F8,
+        K::F9,
+        K::F10,
+        K::F11,
+        K::F12,
+    ];
+    let single = name.chars().next().filter(|_| name.chars().count() == 1);
+    let code = match (name.as_str(), single) {
+        (_, Some(c @ 'a'..='z')) => letters[(c as u8 - b'a') as usize],
+        (_, Some(c @ '0'..='9')) => digits[(c as u8 - b'0') as usize],
+        ("[", _) => K::BracketLeft,
+        ("]", _) => K::BracketRight,
+        (".", _) => K::Period,
+        ("-", _) => K::Minus,
+        ("=", _) => K::Equal,
+        ("left", _) => K::ArrowLeft,
+        ("right", _) => K::ArrowRight,
+        ("up", _) => K::ArrowUp,
+        ("down", _) => K::ArrowDown,
+        ("pageup", _) => K::PageUp,
+        ("pagedown", _) => K::PageDown,
+        ("esc", _) => K::Escape,
+        ("comma", _) => K::Comma,
+        (f, _) if f.starts_with('f') => match f[1..].parse::<usize>() {
+            Ok(n @ 1..=12) => functions[n - 1],
+            _ => return Err(format!("unknown key '{text}'")),
+        },
+        _ => return Err(format!("unknown key '{text}'")),
+    };
+    Ok(code)
 }
 
 /// Parse "X,Y,Z" into a vector of finite numbers.

@@ -33,7 +33,6 @@ use crate::view::overlay::Overlay;
 
 use super::cli::{Method, ViewArgs};
 use super::output;
-use super::render::check_validation;
 
 /// Frames in flight (the profiler's ring and the swapchain's acquisition semaphores).
 const FRAMES_IN_FLIGHT: usize = 2;
@@ -99,12 +98,21 @@ impl ViewApp {
         self.close(event_loop);
     }
 
-    /// Finish every frame, then destroy everything before the event loop ends.
+    /// Finish every frame, destroy everything, and check that the validation layers saw no
+    /// error up to the destruction of the instance.
     fn close(&mut self, event_loop: &ActiveEventLoop) {
-        if let Some(mut running) = self.running.take()
-            && let Err(e) = running.shut_down(&self.args)
-        {
-            self.error.get_or_insert(e);
+        if let Some(mut running) = self.running.take() {
+            if let Err(e) = running.shut_down(&self.args) {
+                self.error.get_or_insert(e);
+            }
+            let log = running.gpu.shared_validation_log();
+            drop(running);
+            let errors = log.map_or(0, |l| l.error_count());
+            if errors > 0 {
+                self.error.get_or_insert(anyhow::anyhow!(
+                    "the Vulkan validation layers reported {errors} error(s) (logged above)"
+                ));
+            }
         }
         event_loop.exit();
     }
@@ -172,9 +180,15 @@ impl ApplicationHandler for ViewApp {
         }
     }
 
-    fn about_to_wait(&mut self, _event_loop: &ActiveEventLoop) {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
         if let Some(running) = &self.running {
-            running.outputs[0].window.request_redraw();
+            // A minimised window sleeps until an event (its restoring resize) wakes it.
+            if running.minimised() {
+                event_loop.set_control_flow(ControlFlow::Wait);
+            } else {
+                event_loop.set_control_flow(ControlFlow::Poll);
+                running.outputs[0].window.request_redraw();
+            }
         }
     }
 }
@@ -382,10 +396,16 @@ impl Running {
             self.held.remove(&code);
             return Ok(Flow::Continue);
         }
-        self.held.insert(code);
         if event.repeat {
+            self.held.insert(code);
             return Ok(Flow::Continue);
         }
+        self.press(code)
+    }
+
+    /// A key went down: remember it as held, and do what it does.
+    fn press(&mut self, code: KeyCode) -> anyhow::Result<Flow> {
+        self.held.insert(code);
         match code {
             KeyCode::Escape => return Ok(Flow::Close),
             KeyCode::F1 => self.help = !self.help,
@@ -454,16 +474,22 @@ impl Running {
         let now = Instant::now();
         let seconds = (now - self.last_redraw).as_secs_f32().min(0.25);
         self.last_redraw = now;
+        let scripted = args.keys.get(self.frames_shown as usize).copied();
+        if let Some(code) = scripted
+            && let Flow::Close = self.press(code)?
+        {
+            return Ok(Flow::Close);
+        }
         self.apply_held_keys(seconds);
+        if let Some(code) = scripted {
+            self.held.remove(&code);
+        }
+        if self.minimised() {
+            return Ok(Flow::Continue); // the swapchain is rebuilt once the window has an area
+        }
         if self.resize_pending {
             self.resize_pending = false;
             self.layout()?;
-        }
-        if self.outputs.iter().any(|o| {
-            let s = o.window.inner_size();
-            s.width == 0 || s.height == 0
-        }) {
-            return Ok(Flow::Continue); // minimised: nothing to show
         }
         let (w, h) = (self.frame.options.width, self.frame.options.height);
         let eyes = self.eyes(w, h);
@@ -488,6 +514,14 @@ impl Running {
             Some(frames) if self.frames_shown >= frames => Ok(Flow::Close),
             _ => Ok(Flow::Continue),
         }
+    }
+
+    /// True while a window has no area (minimised): nothing is rendered.
+    fn minimised(&self) -> bool {
+        self.outputs.iter().any(|o| {
+            let size = o.window.inner_size();
+            size.width == 0 || size.height == 0
+        })
     }
 
     /// Render and present one frame; false when a swapchain is out of date.
@@ -675,8 +709,7 @@ impl Running {
         if let Some(prefix) = &args.screenshot {
             self.screenshot(prefix)?;
         }
-        output::write_profile(&args.profile, &self.ring.profiler)?;
-        check_validation(&self.gpu)
+        output::write_profile(&args.profile, &self.ring.profiler)
     }
 }
 

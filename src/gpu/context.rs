@@ -250,6 +250,12 @@ impl Gpu {
         self.validation.as_deref()
     }
 
+    /// The validation log, kept alive beyond the GPU: errors raised while the device and the
+    /// instance are destroyed are counted too.
+    pub fn shared_validation_log(&self) -> Option<Arc<ValidationLog>> {
+        self.validation.clone()
+    }
+
     pub fn validation_enabled(&self) -> bool {
         self.validation.is_some()
     }
