@@ -150,13 +150,9 @@ impl Swapchain {
             format: vk::Format::UNDEFINED,
             extent: vk::Extent2D::default(),
             vsync,
-            acquired: Vec::new(),
+            acquired: vec![vk::Semaphore::null(); frames_in_flight.max(1)],
             presented: Vec::new(),
         };
-        for _ in 0..frames_in_flight.max(1) {
-            let semaphore = chain.new_semaphore()?;
-            chain.acquired.push(semaphore);
-        }
         chain.recreate(size)?;
         Ok(chain)
     }
@@ -260,6 +256,16 @@ impl Swapchain {
         for _ in 0..self.images.len() {
             let semaphore = self.new_semaphore()?;
             self.presented.push(semaphore);
+        }
+        // Fresh acquisition semaphores too: a frame abandoned because another window's
+        // swapchain was out of date may have left one signalled with no wait on it.
+        for index in 0..self.acquired.len() {
+            let semaphore = self.new_semaphore()?;
+            let old = std::mem::replace(&mut self.acquired[index], semaphore);
+            if old != vk::Semaphore::null() {
+                // SAFETY: the device is idle (the caller's duty), so nothing waits on it.
+                unsafe { self.shared.device.destroy_semaphore(old, None) };
+            }
         }
         log::info!(
             "swapchain: {}x{} {:?}, {} images, {:?}",
