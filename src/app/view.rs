@@ -258,9 +258,9 @@ impl Running {
         let mut fly = FlyCamera::new(scene.camera, extent);
         let cave = args
             .cave
-            .then(|| Cave::centred(&scene, args.cave_size, args.head));
+            .then(|| Cave::placed(&scene, args.cave_size, args.head));
         if let Some(cave) = &cave {
-            // The CAVE's viewer stands in the middle of the scene, facing the camera's way;
+            // The CAVE's viewer stands where the CAVE was placed, facing the camera's way;
             // the fly camera carries the CAVE from there.
             fly.camera.position = cave.center;
             fly.camera.target = cave.center + cave.forward;

@@ -32,15 +32,29 @@ pub struct Cave {
 }
 
 impl Cave {
-    /// A CAVE in the middle of the scene, facing the way its camera looks, with walls of
-    /// `size` times the scene's diagonal.
-    pub fn centred(scene: &Scene, size: f32, head_offset: Vec3) -> Cave {
-        let extent = (scene.bounds_max - scene.bounds_min).length().max(1e-3);
-        let look = scene.camera.target - scene.camera.position;
+    /// A CAVE where the scene's camera stands, facing the way it looks, with walls of `size`
+    /// times the scene's diagonal. A camera outside the scene (e.g. the Cornell box's) walks
+    /// along its view until the CAVE is inside the scene's bounds: the viewer steps in.
+    pub fn placed(scene: &Scene, size: f32, head_offset: Vec3) -> Cave {
+        let (lo, hi) = (scene.bounds_min, scene.bounds_max);
+        let extent = (hi - lo).length().max(1e-3);
+        let half_size = 0.5 * size * extent;
+        let camera = &scene.camera;
+        let look = (camera.target - camera.position).normalize_or(Vec3::NEG_Z);
+        let forward = Vec3::new(look.x, 0.0, look.z).normalize_or(Vec3::NEG_Z);
+        let inside = |p: Vec3| p.cmpge(lo).all() && p.cmple(hi).all();
+        let center = if inside(camera.position) {
+            camera.position
+        } else {
+            match entry_distance(camera.position, look, lo, hi) {
+                Some(t) => camera.position + look * t + forward * (1.1 * half_size),
+                None => 0.5 * (lo + hi),
+            }
+        };
         Cave {
-            center: 0.5 * (scene.bounds_min + scene.bounds_max),
-            half_size: 0.5 * size * extent,
-            forward: Vec3::new(look.x, 0.0, look.z).normalize_or(Vec3::NEG_Z),
+            center,
+            half_size,
+            forward,
             head_offset,
         }
     }
@@ -101,6 +115,15 @@ impl Cave {
             })
             .collect()
     }
+}
+
+/// How far along `direction` a ray from `origin` enters the box `[lo, hi]`, if it does.
+fn entry_distance(origin: Vec3, direction: Vec3, lo: Vec3, hi: Vec3) -> Option<f32> {
+    let inv = direction.recip();
+    let (a, b) = ((lo - origin) * inv, (hi - origin) * inv);
+    let near = a.min(b).max_element().max(0.0);
+    let far = a.max(b).min_element();
+    (near <= far).then_some(near)
 }
 
 /// World-to-clip matrix (Vulkan: depth 0..1, y down) of the frustum from `eye` through
@@ -193,6 +216,22 @@ mod tests {
             );
             assert!((0.0..1.0).contains(&lower_left.z));
         }
+    }
+
+    #[test]
+    fn a_camera_outside_the_scene_steps_in_along_its_view() {
+        let scene = Scene::load("cornell").unwrap();
+        let cave = Cave::placed(&scene, 0.2, Vec3::ZERO);
+        let (lo, hi) = (scene.bounds_min, scene.bounds_max);
+        assert!(cave.center.cmpge(lo).all() && cave.center.cmple(hi).all());
+        assert_eq!(cave.forward, Vec3::Z, "the Cornell camera looks down +z");
+        let camera = scene.camera.position;
+        assert!((cave.center.x - camera.x).abs() < 1e-3 && (cave.center.y - camera.y).abs() < 1e-3);
+        assert!((cave.center.z - lo.z - 1.1 * cave.half_size).abs() < 1e-2);
+        assert_eq!(
+            entry_distance(Vec3::ZERO, Vec3::X, Vec3::ONE, Vec3::splat(2.0)),
+            None
+        );
     }
 
     #[test]
