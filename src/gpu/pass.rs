@@ -773,28 +773,22 @@ impl<'a> Recorder<'a> {
             base_array_layer: 0,
             layer_count: 1,
         };
-        let to_transfer = vk::ImageMemoryBarrier2::default()
+        let barrier = vk::ImageMemoryBarrier2::default()
+            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+            .image(target)
+            .subresource_range(colour);
+        let to_transfer = barrier
             .src_stage_mask(vk::PipelineStageFlags2::BLIT)
-            .src_access_mask(vk::AccessFlags2::NONE)
             .dst_stage_mask(vk::PipelineStageFlags2::BLIT)
             .dst_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
             .old_layout(vk::ImageLayout::UNDEFINED)
-            .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(target)
-            .subresource_range(colour);
-        let to_present = vk::ImageMemoryBarrier2::default()
+            .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL);
+        let to_present = barrier
             .src_stage_mask(vk::PipelineStageFlags2::BLIT)
             .src_access_mask(vk::AccessFlags2::TRANSFER_WRITE)
-            .dst_stage_mask(vk::PipelineStageFlags2::NONE)
-            .dst_access_mask(vk::AccessFlags2::NONE)
             .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
-            .new_layout(vk::ImageLayout::PRESENT_SRC_KHR)
-            .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-            .image(target)
-            .subresource_range(colour);
+            .new_layout(vk::ImageLayout::PRESENT_SRC_KHR);
         let (w, h) = (src.width() as i32, src.height() as i32);
         let region = blit_region([0, 0, w, h], [0, 0, w, h]);
         let device = &self.gpu.shared.device;
