@@ -1,25 +1,30 @@
 //! Compiles every shader under shaders-glsl/ to SPIR-V with shaderc and embeds it in the crate.
 //!
 //! * `#include "common/..."` resolves against shaders-glsl/.
-//! * Constants shared with Rust come from src/shader_shared.rs as `#define`s (one source of truth).
+//! * Constants shared with Rust are `#define`s of the same name (one source of truth), read from
+//!   the Rust files that declare them with `shared_constants!`: src/shader_shared.rs for every
+//!   shader; src/gi/shared/bindings.rs for shaders under shaders-glsl/gi/; and a method's
+//!   src/gi/<name>/bindings.rs for its shaders under shaders-glsl/gi/<name>/ only, so methods'
+//!   binding names never collide. A name defined twice for one shader is a build error.
 //! * Every source and included file is a `rerun-if-changed`; errors name the file and line.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-#[allow(dead_code)]
-#[path = "src/shader_shared.rs"]
-mod shader_shared;
-
 const SHADER_ROOT: &str = "shaders-glsl";
+/// Constants every shader gets.
+const GLOBAL_CONSTANTS: &str = "src/shader_shared.rs";
+/// Constants every shader under shaders-glsl/gi/ gets.
+const GI_SHARED_CONSTANTS: &str = "src/gi/shared/bindings.rs";
 
 fn main() {
     let root =
         PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"))
             .join(SHADER_ROOT);
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
+    let manifest =
+        PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     println!("cargo:rerun-if-changed={SHADER_ROOT}");
-    println!("cargo:rerun-if-changed=src/shader_shared.rs");
 
     let mut sources = Vec::new();
     collect_files(&root, &mut sources);
@@ -38,6 +43,13 @@ fn main() {
         };
         let rel = file.strip_prefix(&root).expect("source under the root");
         let source = std::fs::read_to_string(file).expect("shader source readable");
+        let defines = match shader_constants(&manifest, rel) {
+            Ok(d) => d,
+            Err(e) => {
+                failures.push(format!("{SHADER_ROOT}/{}: {e}", rel.display()));
+                continue;
+            }
+        };
         let mut options = shaderc::CompileOptions::new().expect("shaderc options");
         options.set_target_env(
             shaderc::TargetEnv::Vulkan,
@@ -45,7 +57,7 @@ fn main() {
         );
         options.set_optimization_level(shaderc::OptimizationLevel::Performance);
         options.set_generate_debug_info();
-        for (name, value) in shader_shared::GLSL_DEFINES {
+        for (name, value) in &defines {
             options.add_macro_definition(name, Some(value));
         }
         let include_root = root.clone();
@@ -95,6 +107,64 @@ fn main() {
         );
     }
     std::fs::write(out_dir.join("shaders.rs"), module).expect("write shaders.rs");
+}
+
+/// The `#define`s of the shader at `rel` (relative to shaders-glsl/).
+fn shader_constants(manifest: &Path, rel: &Path) -> Result<Vec<(String, String)>, String> {
+    let mut files = vec![PathBuf::from(GLOBAL_CONSTANTS)];
+    let mut parts = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned());
+    if parts.next().as_deref() == Some("gi") {
+        files.push(PathBuf::from(GI_SHARED_CONSTANTS));
+        match parts.next() {
+            Some(folder) if folder != "shared" && rel.components().count() > 2 => {
+                files.push(PathBuf::from(format!("src/gi/{folder}/bindings.rs")));
+            }
+            _ => {}
+        }
+    }
+    let mut defines: Vec<(String, String)> = Vec::new();
+    for file in files {
+        let path = manifest.join(&file);
+        let Ok(text) = std::fs::read_to_string(&path) else {
+            if file.as_os_str() == GLOBAL_CONSTANTS {
+                return Err(format!("cannot read {}", file.display()));
+            }
+            continue; // a method without constants of its own
+        };
+        println!("cargo:rerun-if-changed={}", path.display());
+        for (name, value) in parse_constants(&text) {
+            if defines.iter().any(|(n, _)| *n == name) {
+                return Err(format!(
+                    "constant {name} is defined twice (again in {})",
+                    file.display()
+                ));
+            }
+            defines.push((name, value));
+        }
+    }
+    Ok(defines)
+}
+
+/// `NAME: TYPE = VALUE;` lines of a `shared_constants!` block, as (NAME, VALUE).
+fn parse_constants(text: &str) -> Vec<(String, String)> {
+    text.lines()
+        .filter_map(|line| {
+            let line = line.trim();
+            let (name, rest) = line.split_once(':')?;
+            let name = name.trim();
+            let upper = name
+                .chars()
+                .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_');
+            if name.is_empty() || !upper || !name.starts_with(|c: char| c.is_ascii_uppercase()) {
+                return None;
+            }
+            let (_, value) = rest.split_once('=')?;
+            let value = value.trim().strip_suffix(';')?.trim();
+            Some((name.to_string(), value.to_string()))
+        })
+        .collect()
 }
 
 fn collect_files(dir: &Path, out: &mut Vec<PathBuf>) {

@@ -1,11 +1,12 @@
 //! The raster frame's passes on the machine's device, timed by vkgi's own GPU profiler (the same
-//! numbers `vkgi render --profile` prints): median, min and max nanoseconds per pass.
+//! numbers `vkgi render --profile` prints, through the same frame runner): median, min and max
+//! nanoseconds per pass.
 //!
 //! cargo bench --bench frame [-- WIDTHxHEIGHT FRAMES]
 
-use vkgi::frame::{Frame, FrameOptions};
-use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, GpuOptions};
+use vkgi::render::runner::run_frames;
+use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 
 fn main() -> anyhow::Result<()> {
@@ -21,7 +22,7 @@ fn main() -> anyhow::Result<()> {
     let frames: u32 = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(20);
     let gpu = Gpu::new(&GpuOptions::default())?;
     let scene = Scene::load("cornell")?;
-    let frame = Frame::new(
+    let mut frame = Frame::new(
         &gpu,
         &scene,
         FrameOptions {
@@ -30,21 +31,8 @@ fn main() -> anyhow::Result<()> {
             ..FrameOptions::default()
         },
     )?;
-    let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2)?;
     // Warm-up frames are not measured.
-    for _ in 0..3 {
-        ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
-            frame.record(rec, None)
-        })?;
-    }
-    ring.finish()?;
-    ring.profiler.clear();
-    for _ in 0..frames {
-        ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
-            frame.record(rec, None)
-        })?;
-    }
-    ring.finish()?;
+    let ring = run_frames(&gpu, &mut frame, None, 3, frames)?;
     println!("cornell {width}x{height}, {frames} frames");
     print!("{}", ring.profiler.report().table());
     Ok(())

@@ -1,61 +1,71 @@
-//! LPV and ILPV propagation per lattice size, tiled against naive and one submission against
-//! one per colour-channel queue, timed by vkgi's own GPU profiler through the same code as
-//! `vkgi profile` (so both print the same numbers).
+//! Every method with a size axis (LPV and ILPV: the lattice) per size, tiled against naive and
+//! one submission against one per part (colour channel) on its queue, timed by vkgi's own GPU
+//! profiler through the same code as `vkgi profile` (so both print the same numbers).
 //!
-//! cargo bench --bench propagation [-- LATTICES FRAMES], e.g. `-- 8,16,32,64 10`
+//! cargo bench --bench propagation [-- SIZES FRAMES], e.g. `-- 8,16,32,64 10`
 
 use vkgi::app::profile::{ProfileConfig, run};
-use vkgi::frame::ChannelPlan;
-use vkgi::gi::lpv::Scheme;
+use vkgi::gi::registry;
 use vkgi::gpu::{Gpu, GpuOptions};
+use vkgi::render::SubmitPlan;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with("--"))
         .collect();
-    let lattices: Vec<u32> = match args.first() {
-        Some(list) => list.split(',').map(str::parse).collect::<Result<_, _>>()?,
-        None => vec![8, 16, 32],
+    let sizes: Vec<String> = match args.first() {
+        Some(list) => list.split(',').map(str::to_string).collect(),
+        None => vec!["8".into(), "16".into(), "32".into()],
     };
     let frames: u32 = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(5);
     let gpu = Gpu::new(&GpuOptions::default())?;
+    let methods: Vec<&registry::MethodEntry> = registry::methods()
+        .filter(|m| m.profile_axis.is_some())
+        .collect();
     let variants = [
-        ("tiled, sequential channels", true, ChannelPlan::Sequential),
-        ("naive, sequential channels", false, ChannelPlan::Sequential),
-        ("tiled, one queue per channel", true, ChannelPlan::Async),
+        ("tiled, sequential parts", false, SubmitPlan::Sequential),
+        ("naive, sequential parts", true, SubmitPlan::Sequential),
+        ("tiled, one queue per part", false, SubmitPlan::Async),
     ];
     let mut summary = Vec::new();
-    for (name, tiled, plan) in variants {
-        let config = ProfileConfig {
-            scene: "cornell".into(),
-            methods: vec![Scheme::Lpv, Scheme::Ilpv],
-            lattices: lattices.clone(),
-            iterations: 8,
-            warmup: 1,
-            frames,
-            size: (160, 120),
-            channel_plan: plan,
-            tiled,
-        };
-        let result = run(&gpu, &config, |_, _| {})?;
-        println!("==== {name} ====");
-        print!("{}", result.table());
-        for c in &result.configs {
-            summary.push((
-                name,
-                c.method,
-                c.lattice,
-                c.step_median_ns,
-                c.frame_median_ns,
-            ));
+    for (name, naive, plan) in variants {
+        for method in &methods {
+            let Some(axis) = method.profile_axis else {
+                continue;
+            };
+            let mut grid = vec![
+                (axis.to_string(), sizes.clone()),
+                ("iterations".to_string(), vec!["8".to_string()]),
+            ];
+            if naive {
+                grid.push(("naive".to_string(), vec!["on".to_string()]));
+            }
+            let config = ProfileConfig {
+                scene: "cornell".into(),
+                methods: vec![method.name.to_string()],
+                grid,
+                warmup: 1,
+                frames,
+                size: (160, 120),
+                submit: plan,
+            };
+            let result = run(&gpu, &config, |_, _| {})?;
+            println!("==== {name}: {} ====", method.name);
+            print!("{}", result.table());
+            for c in &result.configs {
+                summary.push((
+                    name,
+                    c.label(),
+                    c.core.as_ref().map_or(0.0, |k| k.median_ns),
+                    c.frame_median_ns,
+                ));
+            }
         }
     }
-    println!("\n==== summary: median ns per propagation step (per channel) and per frame ====");
-    for (name, method, lattice, step, frame) in summary {
-        println!(
-            "{name:<30} {method:?} lattice {lattice:>4}: step {step:>13.0} ns, frame {frame:>13.0} ns"
-        );
+    println!("\n==== summary: median ns per core pass run (one part) and per frame ====");
+    for (name, label, core, frame) in summary {
+        println!("{name:<28} {label:<20}: core {core:>13.0} ns, frame {frame:>13.0} ns");
     }
     Ok(())
 }

@@ -3,12 +3,12 @@
 pub mod app;
 pub mod error;
 pub mod font;
-pub mod frame;
 pub mod gi;
 pub mod gpu;
 pub mod imageio;
 pub mod metrics;
 pub mod reference;
+pub mod render;
 pub mod scene;
 pub mod shader_shared;
 pub mod view;

@@ -1,12 +1,16 @@
-//! Constants shared by Rust and GLSL: binding numbers, workgroup sizes and limits live here and
-//! nowhere else. build.rs hands each one to shaderc as a `#define` of the same name, so a shader
-//! writes `layout(binding = LIGHTING_GBUFFER_POSITION)` and Rust binds `LIGHTING_GBUFFER_POSITION`.
+//! Constants shared by Rust and GLSL that every shader sees: the frame's own binding numbers,
+//! workgroup sizes and limits live here and nowhere else. build.rs hands each one to shaderc as
+//! a `#define` of the same name, so a shader writes `layout(binding = LIGHTING_GBUFFER_POSITION)`
+//! and Rust binds `LIGHTING_GBUFFER_POSITION`. GI methods declare theirs in their own folder
+//! (src/gi/<name>/bindings.rs, seen only by shaders-glsl/gi/<name>/; src/gi/shared/bindings.rs,
+//! seen by every GI shader) with the same macro.
 
+/// Declare constants shared with GLSL, one `NAME: TYPE = LITERAL;` per line (build.rs reads
+/// these lines to define the same names for the shaders).
+#[macro_export]
 macro_rules! shared_constants {
     ($($(#[$doc:meta])* $name:ident: $ty:ty = $value:literal;)*) => {
         $($(#[$doc])* pub const $name: $ty = $value;)*
-        /// Every constant as (name, GLSL literal), for the shader compiler.
-        pub const GLSL_DEFINES: &[(&str, &str)] = &[$((stringify!($name), stringify!($value))),*];
     };
 }
 
@@ -57,46 +61,6 @@ shared_constants! {
     REFERENCE_UNLIMITED_BOUNCES: u32 = 0xFFFFFFFF;
     /// Hard cap on path length, even without a bounce limit.
     REFERENCE_MAX_DEPTH: u32 = 1024;
-
-    // ---- reflective shadow maps ----
-    RSM_MATERIALS: u32 = 2;
-    RSM_LIGHTS: u32 = 3;
-    RSM_VIEWS: u32 = 4;
-
-    // ---- LPV injection ----
-    INJECT_RSM_POSITION: u32 = 0;
-    INJECT_RSM_NORMAL: u32 = 1;
-    INJECT_RSM_FLUX: u32 = 2;
-    INJECT_LATTICE_R: u32 = 3;
-    INJECT_LATTICE_G: u32 = 4;
-    INJECT_LATTICE_B: u32 = 5;
-
-    // ---- ILPV merge and clamp compensation ----
-    MERGE_CURRENT: u32 = 0;
-    MERGE_PREVIOUS: u32 = 1;
-    COMPENSATE_CELLS: u32 = 0;
-    COMPENSATE_NEIGHBOURS: u32 = 1;
-
-    // ---- propagation: 26-neighbour ILPV and 6-neighbour LPV ----
-    ILPV_SOURCE: u32 = 0;
-    ILPV_DESTINATION: u32 = 1;
-    ILPV_GEOMETRY: u32 = 2;
-    ILPV_NEIGHBOURS: u32 = 3;
-    ILPV_ACCUMULATION: u32 = 4;
-    LPV_SOURCE: u32 = 0;
-    LPV_DESTINATION: u32 = 1;
-    LPV_ACCUMULATION: u32 = 2;
-    LPV_GEOMETRY: u32 = 3;
-    LPV_AXES: u32 = 4;
-
-    // ---- LPV lookup ----
-    LOOKUP_GBUFFER_POSITION: u32 = 0;
-    LOOKUP_GBUFFER_NORMAL: u32 = 1;
-    LOOKUP_GBUFFER_ALBEDO: u32 = 2;
-    LOOKUP_LATTICE_R: u32 = 3;
-    LOOKUP_LATTICE_G: u32 = 4;
-    LOOKUP_LATTICE_B: u32 = 5;
-    LOOKUP_HDR: u32 = 6;
 
     // ---- device-limit probes ----
     LIMITS_SOURCE: u32 = 0;

@@ -4,9 +4,9 @@
 mod common;
 
 use ash::vk;
-use vkgi::frame::{Frame, FrameOptions};
 use vkgi::gpu::frames::{FrameRing, SemaphoreWait, TimelineSemaphore};
 use vkgi::gpu::{Binding, ComputePass, ComputePipeline, Specialization};
+use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 
 const PASSES: [&str; 4] = ["shadow map", "g-buffer", "direct lighting", "tone map"];
@@ -29,8 +29,8 @@ fn small_frame(gpu: &vkgi::gpu::Gpu) -> Frame {
 #[test]
 fn every_recorded_pass_gets_one_positive_time_per_frame() {
     let gpu = common::gpu();
-    let frame = small_frame(&gpu);
-    let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
+    let mut frame = small_frame(&gpu);
+    let mut ring = FrameRing::new(&gpu, 2).unwrap();
     for _ in 0..5 {
         ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
             frame.record(rec, None)
@@ -72,8 +72,8 @@ fn every_recorded_pass_gets_one_positive_time_per_frame() {
 #[test]
 fn reading_every_frame_for_100_frames_collects_them_all() {
     let gpu = common::gpu();
-    let frame = small_frame(&gpu);
-    let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
+    let mut frame = small_frame(&gpu);
+    let mut ring = FrameRing::new(&gpu, 2).unwrap();
     for n in 0..100u64 {
         ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
             frame.record(rec, None)
@@ -95,8 +95,8 @@ fn reading_every_frame_for_100_frames_collects_them_all() {
 #[test]
 fn collecting_an_unfinished_frame_returns_at_once_instead_of_waiting() {
     let gpu = common::gpu();
-    let frame = small_frame(&gpu);
-    let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
+    let mut frame = small_frame(&gpu);
+    let mut ring = FrameRing::new(&gpu, 2).unwrap();
     // The GPU cannot start this frame until the host signals the semaphore.
     let gate = TimelineSemaphore::new(&gpu, 0).unwrap();
     let wait = SemaphoreWait {
@@ -142,13 +142,91 @@ fn a_pass_whose_bindings_disagree_with_its_shader_fails_naming_the_pass() {
                 vkgi::shader_shared::TONEMAP_HDR_IN,
                 &frame.view().hdr,
             )],
-            push: &[],
+            push: &(),
             threads: [32, 24, 1],
         })
     });
     let message = result.unwrap_err().to_string();
     assert!(
         message.contains("mis-bound tone map") && message.contains("binding 1"),
+        "{message}"
+    );
+    common::assert_no_validation_errors(&gpu);
+}
+
+vkgi::push_constants! {
+    /// The tone map's 12 bytes of push constants, but as three members instead of two.
+    struct MislaidTonemapPush {
+        width: u32,
+        height: u32,
+        exposure_scale: f32,
+    }
+}
+
+#[test]
+fn push_constant_layouts_and_write_intent_are_checked_against_the_shader() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let frame = Frame::new(
+        &gpu,
+        &scene,
+        FrameOptions {
+            width: 32,
+            height: 24,
+            ..FrameOptions::default()
+        },
+    )
+    .unwrap();
+    let pipeline = ComputePipeline::new(
+        &gpu,
+        "tone map",
+        vkgi::shaders::RASTER_TONEMAP_COMP,
+        &Specialization::new(),
+    )
+    .unwrap();
+    let view = frame.view();
+    let ids = (
+        vkgi::shader_shared::TONEMAP_HDR_IN,
+        vkgi::shader_shared::TONEMAP_LDR_OUT,
+    );
+    let mislaid = MislaidTonemapPush {
+        width: 32,
+        height: 24,
+        exposure_scale: 1.0,
+    };
+    let result = gpu.one_shot(|rec| {
+        rec.compute(&ComputePass {
+            name: "mislaid push constants",
+            pipeline: &pipeline,
+            bindings: &[
+                Binding::image_read(ids.0, &view.hdr),
+                Binding::image_write(ids.1, &view.ldr),
+            ],
+            push: &mislaid,
+            threads: [32, 24, 1],
+        })
+    });
+    let message = result.unwrap_err().to_string();
+    assert!(
+        message.contains("mislaid push constants") && message.contains("3 members in Rust but 2"),
+        "{message}"
+    );
+    // The output image is written by the shader but declared read: the barrier would be wrong.
+    let result = gpu.one_shot(|rec| {
+        rec.compute(&ComputePass {
+            name: "read-declared output",
+            pipeline: &pipeline,
+            bindings: &[
+                Binding::image_read(ids.0, &view.hdr),
+                Binding::image_read(ids.1, &view.ldr),
+            ],
+            push: &mislaid,
+            threads: [32, 24, 1],
+        })
+    });
+    let message = result.unwrap_err().to_string();
+    assert!(
+        message.contains("binding 1 is declared read, but the shader may write it"),
         "{message}"
     );
     common::assert_no_validation_errors(&gpu);

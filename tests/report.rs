@@ -49,7 +49,7 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
     ]);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(
-        stdout.contains("device limits") && stdout.contains("scaling Ilpv"),
+        stdout.contains("device limits") && stdout.contains("scaling ilpv"),
         "{stdout}"
     );
     let profile: serde_json::Value =
@@ -58,19 +58,19 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
     let mut seen = HashSet::new();
     for p in passes {
         let key = (
-            p["method"].to_string(),
-            p["lattice"].as_u64().unwrap(),
+            p["method"].as_str().unwrap().to_string(),
+            p["value"].as_str().unwrap_or("-").to_string(),
             p["pass"].as_str().unwrap().to_string(),
         );
         assert!(seen.insert(key.clone()), "duplicate entry {key:?}");
         assert!(p["median_ns"].as_f64().unwrap() > 0.0, "{p}");
         assert!(p["min_ns"].as_f64().unwrap() > 0.0, "{p}");
     }
-    for method in ["\"Lpv\"", "\"Ilpv\""] {
-        for lattice in [4, 8] {
+    for method in ["lpv", "ilpv"] {
+        for lattice in ["4", "8"] {
             let names: HashSet<&str> = seen
                 .iter()
-                .filter(|(m, l, _)| m == method && *l == lattice)
+                .filter(|(m, l, _)| m == method && l == lattice)
                 .map(|(_, _, p)| p.as_str())
                 .collect();
             for pass in [
@@ -88,6 +88,14 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
             }
         }
     }
+    assert!(
+        seen.contains(&(
+            "ambient".to_string(),
+            "-".to_string(),
+            "ambient".to_string()
+        )),
+        "the baseline without a size axis is profiled once: {seen:?}"
+    );
     assert!(
         profile["limits"]["bandwidth_bytes_per_ns"]
             .as_f64()
@@ -128,7 +136,11 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
     let report: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
     let rows = report["rows"].as_array().unwrap();
-    assert_eq!(rows.len(), 4, "lpv and ilpv at 1 and 2 steps");
+    assert_eq!(
+        rows.len(),
+        5,
+        "the ambient baseline, lpv and ilpv at 1 and 2 steps"
+    );
     for r in rows {
         for part in ["indirect", "full"] {
             for metric in ["rmse", "rel_mse", "flip"] {
@@ -137,13 +149,22 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
             }
         }
         assert!(r["ms_per_frame"].as_f64().unwrap() > 0.0);
+        let ratio = r["rel_mse_vs_ambient"].as_f64().unwrap();
+        assert!(ratio.is_finite() && ratio > 0.0, "{r}");
+        if r["method"] == "ambient" {
+            assert_eq!(ratio, 1.0);
+        }
     }
     let markdown = std::fs::read_to_string(dir.join("report.md")).unwrap();
     let table_rows: Vec<&str> = markdown
         .lines()
-        .filter(|l| l.starts_with("| lpv") || l.starts_with("| ilpv"))
+        .filter(|l| {
+            ["| lpv", "| ilpv", "| ambient"]
+                .iter()
+                .any(|m| l.starts_with(m))
+        })
         .collect();
-    assert_eq!(table_rows.len(), 4);
+    assert_eq!(table_rows.len(), 5);
     for row in table_rows {
         let link = row
             .rsplit("](")
@@ -158,7 +179,7 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
     }
     for file in [
         "error_vs_time.png",
-        "ns_per_cell.png",
+        "ns_per_unit.png",
         "strip.png",
         "reference.exr",
         "reference.exr.json",

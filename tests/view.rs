@@ -6,9 +6,10 @@ use std::process::{Command, Output};
 use std::sync::Mutex;
 
 use glam::Vec3;
-use vkgi::frame::{Frame, FrameOptions};
 use vkgi::gi::lpv::{Lpv, LpvSettings};
+use vkgi::gi::registry::Setup;
 use vkgi::gpu::frames::FrameRing;
+use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 use vkgi::view::cave::Cave;
 
@@ -174,7 +175,8 @@ fn the_cave_opens_tiled_and_in_one_window_per_wall() {
 fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
     let dir = scratch("keys");
     let profile = dir.join("profile.json");
-    // Per frame: none, lpv, ilpv, lattice +2, steps +1, λ +0.05, light right, indirect only,
+    // Per frame (the method cycle is none, then the registry's order: ambient, ilpv, lpv):
+    // lpv, none, ambient, ilpv, lattice +2, steps +1, λ +0.05, light right, indirect only,
     // direct only, screenshot, help.
     let output = vkgi_windowed_in(
         &dir,
@@ -183,9 +185,9 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
             "--size",
             "96x72",
             "--frames",
-            "11",
+            "12",
             "--keys",
-            "m,m,m,],.,=,right,i,o,p,f1",
+            "m,m,m,m,],.,=,right,i,o,p,f1",
             "--profile-json",
             profile.to_str().unwrap(),
         ],
@@ -200,7 +202,7 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
     }
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap();
-    assert_eq!(report["frames"], 11);
+    assert_eq!(report["frames"], 12);
     let runs = |name: &str| {
         report["passes"]
             .as_array()
@@ -209,9 +211,11 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
             .find(|p| p["name"] == name)
             .map_or(0, |p| p["per_frame_ns"].as_array().unwrap().len())
     };
-    // GI runs in frames 1-7: not after "m" (none) in frame 0, nor once "o" (direct only) is on.
+    // Injection runs with lpv in frame 0 and ilpv in frames 3-8: not with none (frame 1) or
+    // ambient (frame 2), nor once "o" (direct only) is on.
     assert_eq!(runs("inject"), 7);
-    assert_eq!(runs("g-buffer"), 11);
+    assert_eq!(runs("ambient"), 1);
+    assert_eq!(runs("g-buffer"), 12);
     assert_eq!(runs("update lights"), 1, "the light moved once");
 }
 
@@ -242,9 +246,9 @@ fn cave_frame(
         indirect_only: true,
         ..common::indirect_only(side, side)
     };
-    let frame = Frame::with_eyes(gpu, scene, options, &cave.eyes(scene)).expect("frame");
-    let mut lpv = Lpv::new(gpu, scene, LpvSettings::default()).expect("lpv");
-    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("ring");
+    let mut frame = Frame::with_eyes(gpu, scene, options, &cave.eyes(scene)).expect("frame");
+    let mut lpv = Lpv::new(&Setup::new(gpu, scene), LpvSettings::default()).expect("lpv");
+    let mut ring = FrameRing::new(gpu, 2).expect("ring");
     for _ in 0..12 {
         frame.submit(gpu, &mut ring, Some(&mut lpv)).expect("frame");
     }
@@ -329,9 +333,9 @@ fn the_gi_light_is_computed_once_per_frame_however_many_views() {
             .count();
         runs as f64 / frames.len() as f64
     };
-    let mut single_ring = FrameRing::new(&gpu, gpu.queues.graphics, 2).unwrap();
-    let frame = Frame::new(&gpu, &scene, common::indirect_only(32, 32)).unwrap();
-    let mut lpv = Lpv::new(&gpu, &scene, LpvSettings::default()).unwrap();
+    let mut single_ring = FrameRing::new(&gpu, 2).unwrap();
+    let mut frame = Frame::new(&gpu, &scene, common::indirect_only(32, 32)).unwrap();
+    let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), LpvSettings::default()).unwrap();
     for _ in 0..12 {
         frame
             .submit(&gpu, &mut single_ring, Some(&mut lpv))

@@ -5,9 +5,10 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
 
-use crate::frame::FrameOptions;
-use crate::gi::lpv;
+use super::method_args::{MethodGrid, MethodSettings, method_parser};
+use crate::gi::registry;
 use crate::gpu::GpuOptions;
+use crate::render::{FrameOptions, SubmitPlan};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -28,13 +29,14 @@ pub enum Command {
     /// Render a scene headless to PNG and/or OpenEXR, optionally profiling every pass.
     Render(RenderArgs),
     /// The windowed renderer: fly through a scene, move the light, switch methods (F1: keys);
-    /// with --cave, the walls of a CAVE from one tracked head, sharing one GI lattice.
+    /// with --cave, the walls of a CAVE from one tracked head, sharing one GI light per frame.
     View(ViewArgs),
     /// Path-trace the ground-truth image of a scene (linear OpenEXR, settings beside it).
     Reference(ReferenceArgs),
     /// Error metrics (RMSE, relMSE, MAE, FLIP) of a linear HDR image against a reference.
     Compare(CompareArgs),
-    /// Per-pass GPU time of LPV and ILPV per lattice size, against the device's limits.
+    /// Per-pass GPU time of every GI method per problem size (e.g. lattice), against the
+    /// device's limits.
     Profile(ProfileCommandArgs),
     /// Every GI method over a grid of settings, scored against the cached reference: speed
     /// against error as report.md, report.json, plots and an image strip.
@@ -79,10 +81,11 @@ pub struct FrameArgs {
     /// reference's indirect part.
     #[arg(long)]
     pub indirect_only: bool,
-    /// How GI colour channels are submitted: auto (async when the device has 3 compute queues),
-    /// sequential (one command buffer), async (one submission per channel queue).
-    #[arg(long, value_enum, default_value_t = crate::frame::ChannelPlan::Auto)]
-    pub channels: crate::frame::ChannelPlan,
+    /// How a GI method's independent parts (e.g. colour channels) are submitted: auto (async
+    /// when the device has two or more compute queues), sequential (one command buffer), async
+    /// (one submission per part, each on a compute queue).
+    #[arg(long, visible_alias = "channels", value_enum, default_value_t = SubmitPlan::Auto)]
+    pub parts: SubmitPlan,
 }
 
 impl FrameArgs {
@@ -93,7 +96,7 @@ impl FrameArgs {
             exposure_ev: self.exposure,
             shadow_map_size: self.shadow_map,
             indirect_only: self.indirect_only,
-            channel_plan: self.channels,
+            submit: self.parts,
         }
     }
 }
@@ -118,94 +121,20 @@ impl ProfileArgs {
     }
 }
 
-/// Which global-illumination method, and its settings.
+/// Which global-illumination method, and its settings (flags that come from the registry).
 #[derive(Args, Debug, Clone)]
 pub struct GiArgs {
-    /// GI method: none (direct light only), lpv (classic 6-neighbour), ilpv (seed 000).
-    #[arg(long, visible_alias = "scheme", value_enum, default_value_t = Method::Ilpv)]
-    pub method: Method,
-    /// Lattice cells along the scene's longest axis (other axes: as many as the bounds need).
-    #[arg(long, default_value_t = lpv::technique::DEFAULT_LATTICE)]
-    pub lattice: u32,
-    /// Propagation steps per frame.
-    #[arg(long, default_value_t = lpv::technique::DEFAULT_ITERATIONS)]
-    pub iterations: u32,
-    /// ILPV's λ_incr: weight of last frame's propagated light (0 = plain propagation).
-    #[arg(long, default_value_t = lpv::technique::DEFAULT_INCREMENTAL)]
-    pub incremental: f32,
-    /// Reflective-shadow-map resolution per light view.
-    #[arg(long, default_value_t = lpv::technique::DEFAULT_RSM)]
-    pub rsm: u32,
-    /// Absorption coefficient σa of the medium (ILPV).
-    #[arg(long, default_value_t = 0.0)]
-    pub absorption: f32,
-    /// Scattering coefficient σs of the medium (ILPV).
-    #[arg(long, default_value_t = 0.0)]
-    pub scattering: f32,
-    /// How σ becomes a per-step probability: thesis (σ^d̄) or physical (1 - exp(-σ d̄)).
-    #[arg(long, value_enum, default_value_t = crate::gi::lpv::Extinction::Thesis)]
-    pub extinction: crate::gi::lpv::Extinction,
-    /// The SH lobe a surface sample adds to the geometry (blocking) lattice.
-    #[arg(long, value_enum, default_value_t = crate::gi::lpv::geometry::BlockingLobe::TwoSided)]
-    pub blocking_lobe: crate::gi::lpv::geometry::BlockingLobe,
-    /// Scale of the geometry lattice (1: a surface filling a cell blocks a face transfer fully).
-    #[arg(long, default_value_t = 1.0)]
-    pub blocking_strength: f32,
-    /// Apply blocking in the first step of a frame too (the thesis leaves it out).
-    #[arg(long)]
-    pub block_first_step: bool,
-    /// Use the naive global-memory propagation kernel instead of the shared-memory tiled one.
-    #[arg(long)]
-    pub naive: bool,
-    /// Propagate with the thesis's global κ only, without per-cell clamp compensation.
-    #[arg(long)]
-    pub no_clamp_compensation: bool,
-    /// Cells VPLs move along their normal before injection (the thesis: 0.5).
-    #[arg(long, default_value_t = lpv::technique::DEFAULT_INJECT_OFFSET)]
-    pub inject_offset: f32,
-    /// Cells the lookup moves along the surface normal (the thesis: 0.5; default decided by
-    /// the accuracy grid in docs/lpv.md).
-    #[arg(long, default_value_t = lpv::technique::DEFAULT_LOOKUP_OFFSET)]
-    pub lookup_offset: f32,
-    /// What the ILPV lookup reads: the accumulated steps, or the thesis's final lattice.
-    #[arg(long, value_enum, default_value_t = crate::gi::lpv::technique::IlpvLookup::Accumulated)]
-    pub ilpv_lookup: crate::gi::lpv::technique::IlpvLookup,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Method {
-    None,
-    Lpv,
-    Ilpv,
-}
-
-impl GiArgs {
-    /// The LPV settings, or None for `--method none`.
-    pub fn lpv_settings(&self) -> Option<crate::gi::lpv::LpvSettings> {
-        let scheme = match self.method {
-            Method::None => return None,
-            Method::Lpv => crate::gi::lpv::Scheme::Lpv,
-            Method::Ilpv => crate::gi::lpv::Scheme::Ilpv,
-        };
-        Some(crate::gi::lpv::LpvSettings {
-            scheme,
-            lattice: self.lattice,
-            iterations: self.iterations,
-            incremental: self.incremental,
-            rsm: self.rsm,
-            absorption: self.absorption,
-            scattering: self.scattering,
-            extinction: self.extinction,
-            blocking_lobe: self.blocking_lobe,
-            blocking_strength: self.blocking_strength,
-            first_step_unblocked: !self.block_first_step,
-            tiled: !self.naive,
-            clamp_compensation: !self.no_clamp_compensation,
-            ilpv_lookup: self.ilpv_lookup,
-            inject_offset: self.inject_offset,
-            lookup_offset: self.lookup_offset,
-        })
-    }
+    /// The global-illumination method.
+    #[arg(
+        long,
+        visible_alias = "scheme",
+        default_value = registry::default_name(),
+        value_parser = method_parser(),
+        ignore_case = true
+    )]
+    pub method: String,
+    #[command(flatten)]
+    pub settings: MethodSettings,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -219,8 +148,8 @@ pub struct RenderArgs {
     /// Linear radiance as 32-bit float OpenEXR.
     #[arg(long, value_name = "FILE")]
     pub hdr: Option<PathBuf>,
-    /// Frames to render (default: 16 for ilpv, whose light builds up over frames, or when
-    /// profiling; else 1).
+    /// Frames to render (default: as many as the method needs to settle, e.g. until an
+    /// incremental method's old light weighs less than 1%).
     #[arg(long)]
     pub frames: Option<u32>,
     #[command(flatten)]
@@ -242,7 +171,7 @@ pub struct ViewArgs {
     #[arg(long)]
     pub no_vsync: bool,
     /// Show the front, left, right and floor walls of a CAVE around the camera, each an
-    /// off-axis view from the tracked head, all lit by one shared GI lattice.
+    /// off-axis view from the tracked head, all lit by one shared GI light per frame.
     #[arg(long)]
     pub cave: bool,
     /// With --cave: one window per wall instead of the walls tiled in one window.
@@ -338,15 +267,9 @@ pub struct ProfileCommandArgs {
     /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
-    /// Methods to profile, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [lpv::Scheme::Lpv, lpv::Scheme::Ilpv])]
-    pub method: Vec<lpv::Scheme>,
-    /// Lattice sizes (cells along the longest axis), comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = [8, 16, 32, 64])]
-    pub lattice: Vec<u32>,
-    /// Propagation steps per frame.
-    #[arg(long, default_value_t = lpv::technique::DEFAULT_ITERATIONS)]
-    pub iterations: u32,
+    /// Methods to profile, comma-separated (default: every registered method).
+    #[arg(long, value_delimiter = ',', value_parser = method_parser(), ignore_case = true)]
+    pub method: Vec<String>,
     /// Measured frames per configuration.
     #[arg(long, default_value_t = 10)]
     pub frames: u32,
@@ -356,18 +279,19 @@ pub struct ProfileCommandArgs {
     /// Image size as WIDTHxHEIGHT (the lookup and raster passes scale with it).
     #[arg(long, default_value = "320x240", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// How colour channels are submitted (see `render --channels`).
-    #[arg(long, value_enum, default_value_t = crate::frame::ChannelPlan::Auto)]
-    pub channels: crate::frame::ChannelPlan,
-    /// Profile the naive global-memory propagation kernel instead of the tiled one.
-    #[arg(long)]
-    pub naive: bool,
+    /// How a method's independent parts are submitted (see `render --parts`).
+    #[arg(long, visible_alias = "channels", value_enum, default_value_t = SubmitPlan::Auto)]
+    pub parts: SubmitPlan,
     /// Write the profile as JSON.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
     /// Write one CSV line per pass.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// Method settings: each method's size axis (e.g. --lattice 8,16,32) takes a list, which
+    /// defaults to the values the report sweeps; any other setting takes one value.
+    #[command(flatten)]
+    pub grid: MethodGrid,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }
@@ -386,21 +310,17 @@ pub struct ReportArgs {
     /// Samples per pixel of the reference (bounces 1, reused when cached in DIR).
     #[arg(long, default_value_t = 1024)]
     pub spp: u32,
-    /// Methods, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [lpv::Scheme::Lpv, lpv::Scheme::Ilpv])]
-    pub method: Vec<lpv::Scheme>,
-    /// Lattice sizes, comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = [8, 16, 32])]
-    pub lattice: Vec<u32>,
-    /// Propagation steps per frame, comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = [4, 8, 16, 32])]
-    pub iterations: Vec<u32>,
-    /// ILPV λ_incr values, comma-separated.
-    #[arg(long, value_delimiter = ',', default_values_t = [0.5, 0.9])]
-    pub incremental: Vec<f32>,
-    /// Frames per ILPV run (default: until the blend settles, λ^frames < 1%).
+    /// Methods, comma-separated (default: every registered method, the ambient baseline
+    /// among them).
+    #[arg(long, value_delimiter = ',', value_parser = method_parser(), ignore_case = true)]
+    pub method: Vec<String>,
+    /// Frames per run (default: as many as each configuration needs to settle).
     #[arg(long)]
     pub frames: Option<u32>,
+    /// Method settings as comma-separated lists: the grid is every combination (settings not
+    /// given take the values the method sweeps by default, or its default).
+    #[command(flatten)]
+    pub grid: MethodGrid,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

@@ -1,7 +1,6 @@
 //! The device's achievable limits, measured with micro-kernels and the same timestamp profiler
 //! as every pass: memory bandwidth (a vec4 copy) and arithmetic rate (vec4 FMA chains).
 
-use bytemuck::{Pod, Zeroable};
 use serde::Serialize;
 
 use crate::gpu::frames::FrameRing;
@@ -24,17 +23,17 @@ impl DeviceLimits {
     }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct CopyPush {
-    count: u32,
+crate::push_constants! {
+    struct CopyPush {
+        count: u32,
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct FmaPush {
-    count: u32,
-    iterations: u32,
+crate::push_constants! {
+    struct FmaPush {
+        count: u32,
+        iterations: u32,
+    }
 }
 
 /// Runs per probe; the median is used.
@@ -45,10 +44,10 @@ const MIN_RUN_NS: f64 = 2e6;
 /// Median GPU time (ns) of `RUNS` runs of `record`.
 fn median_ns(
     gpu: &Gpu,
-    name: &str,
+    name: &'static str,
     record: &dyn Fn(&mut crate::gpu::Recorder) -> crate::gpu::GpuResult<()>,
 ) -> anyhow::Result<f64> {
-    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2)?;
+    let mut ring = FrameRing::new(gpu, 2)?;
     for _ in 0..RUNS {
         ring.submit_frame(gpu, &gpu.queues.graphics, &[], record)?;
     }
@@ -86,7 +85,7 @@ pub fn measure(gpu: &Gpu) -> anyhow::Result<DeviceLimits> {
                     Binding::read(ids::LIMITS_SOURCE, &source),
                     Binding::write(ids::LIMITS_DESTINATION, &destination),
                 ],
-                push: bytemuck::bytes_of(&push),
+                push: &push,
                 threads: [count as u32, 1, 1],
             })
         })?;
@@ -107,7 +106,7 @@ pub fn measure(gpu: &Gpu) -> anyhow::Result<DeviceLimits> {
                 name: "arithmetic probe",
                 pipeline: &fma,
                 bindings: &[Binding::write(ids::LIMITS_DESTINATION, &destination)],
-                push: bytemuck::bytes_of(&push),
+                push: &push,
                 threads: [count, 1, 1],
             })
         })?;

@@ -3,8 +3,11 @@
 pub mod cli;
 mod compare;
 pub mod limits;
+pub mod method;
+pub mod method_args;
 mod output;
 pub mod profile;
+pub mod progress;
 mod reference;
 pub mod render;
 pub mod report;

@@ -1,6 +1,6 @@
-//! `vkgi profile`: per-pass GPU time of LPV and ILPV per lattice size, next to the device's
-//! limits and the cost-against-cells scaling. Library code, so `cargo bench` reports exactly
-//! what `vkgi profile` does.
+//! `vkgi profile`: per-pass GPU time of every registered GI method over its size axis (e.g.
+//! lattice cells), with its core pass next to the device's limits and the cost-against-size
+//! scaling. Library code, so `cargo bench` reports exactly what `vkgi profile` does.
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -8,12 +8,13 @@ use std::time::Instant;
 use anyhow::Context;
 use serde::Serialize;
 
-use crate::frame::{ChannelPlan, Frame, FrameOptions};
-use crate::gi::lpv::{Lpv, LpvSettings, Scheme, cost};
-use crate::gpu::Gpu;
-use crate::gpu::frames::FrameRing;
+use crate::error::InputError;
+use crate::gi::registry::{self, MethodEntry, Setup};
+use crate::gi::settings::Settings;
 use crate::gpu::profiler::summarize;
-use crate::reference::ProgressBar;
+use crate::gpu::{Gpu, ProfileReport, Stage};
+use crate::render::runner::run_frames;
+use crate::render::{Frame, FrameOptions, SubmitPlan};
 use crate::scene::Scene;
 
 use super::cli::ProfileCommandArgs;
@@ -23,56 +24,68 @@ use super::limits::{self, DeviceLimits};
 #[derive(Clone, Debug)]
 pub struct ProfileConfig {
     pub scene: String,
-    pub methods: Vec<Scheme>,
-    pub lattices: Vec<u32>,
-    pub iterations: u32,
+    /// Registered method names (empty: every registered method).
+    pub methods: Vec<String>,
+    /// Setting values: a list for a method's size axis, one value for anything else.
+    pub grid: Vec<(String, Vec<String>)>,
     pub warmup: u32,
     pub frames: u32,
     pub size: (u32, u32),
-    pub channel_plan: ChannelPlan,
-    pub tiled: bool,
+    pub submit: SubmitPlan,
 }
 
 /// One pass of one configuration.
 #[derive(Clone, Debug, Serialize)]
 pub struct PassRow {
-    pub method: Scheme,
-    pub lattice: u32,
+    pub method: &'static str,
+    /// The swept setting and its value in this configuration (e.g. lattice, 16).
+    pub axis: Option<&'static str>,
+    pub value: Option<String>,
     pub pass: String,
+    pub stage: Stage,
     pub median_ns: f64,
     pub min_ns: f64,
     pub max_ns: f64,
-    /// Propagation passes: nanoseconds per cell for this step and channel.
-    pub ns_per_cell_step: Option<f64>,
-    /// Propagation passes: the device-limit bound's time over the measured time.
+    /// Runs of the method's core pass: nanoseconds per unit of work (e.g. per cell).
+    pub ns_per_unit: Option<f64>,
+    /// Runs of the core pass: the device-limit bound's time over the measured time.
     pub fraction_of_bound: Option<f64>,
 }
 
-/// One (method, lattice) configuration.
+/// The core pass of one configuration, against the device's bounds.
+#[derive(Clone, Debug, Serialize)]
+pub struct CoreSummary {
+    pub pass: &'static str,
+    pub unit: &'static str,
+    pub units: usize,
+    /// Median over the runs of one core pass.
+    pub median_ns: f64,
+    pub ns_per_unit: f64,
+    pub fraction_of_bound: f64,
+    pub bytes_per_unit: f64,
+    pub flops_per_unit: f64,
+}
+
+/// One (method, axis value) configuration.
 #[derive(Clone, Debug, Serialize)]
 pub struct ConfigSummary {
-    pub method: Scheme,
-    pub lattice: u32,
-    pub dims: [u32; 3],
-    pub cells: usize,
-    pub kernel: String,
-    pub channel_plan: ChannelPlan,
-    /// CPU time to build the geometry lattice and transfer vectors (once per scene and lattice).
+    pub method: &'static str,
+    pub axis: Option<&'static str>,
+    pub value: Option<String>,
+    /// How the method ran (its own description).
+    pub description: Vec<String>,
+    pub submit_plan: SubmitPlan,
+    /// CPU time to build the method (e.g. transfer vectors and geometry lattice).
     pub setup_ms: f64,
     pub frame_median_ns: f64,
-    /// Median over the steps and channels of one propagation step.
-    pub step_median_ns: f64,
-    pub ns_per_cell_step: f64,
-    pub fraction_of_bound: f64,
-    /// The step's bytes and flops per cell (cost.rs) and the bound they imply.
-    pub bytes_per_cell: f64,
-    pub flops_per_cell: f64,
+    pub core: Option<CoreSummary>,
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Scaling {
-    pub method: Scheme,
-    /// Slope of log(step time) against log(cells); 1.0 is ideal (linear in cells).
+    pub method: &'static str,
+    /// Slope of log(core pass time) against log(units); 1.0 is ideal (linear in size). NaN
+    /// with fewer than two sizes.
     pub exponent: f64,
 }
 
@@ -87,120 +100,181 @@ pub struct ProfileResult {
     pub scaling: Vec<Scaling>,
 }
 
-fn is_propagation(pass: &str) -> bool {
-    pass.starts_with("propagate ")
+/// The methods of `names` (every registered one when empty).
+pub fn entries(names: &[String]) -> Result<Vec<&'static MethodEntry>, InputError> {
+    if names.is_empty() {
+        return Ok(registry::methods().collect());
+    }
+    let mut entries = Vec::new();
+    for name in names {
+        if let Some(entry) = registry::lookup(name)?
+            && !entries.iter().any(|e: &&MethodEntry| e.name == entry.name)
+        {
+            entries.push(entry);
+        }
+    }
+    Ok(entries)
 }
 
-/// Profile every (method, lattice) of `config`; `progress(done, total)` after each.
+/// The settings of each configuration of `entry`: one per value of its size axis.
+fn configurations(
+    entry: &'static MethodEntry,
+    grid: &[(String, Vec<String>)],
+) -> Result<Vec<(Option<String>, Settings)>, InputError> {
+    let axis = entry.profile_axis;
+    let mut singles = Vec::new();
+    for (name, values) in grid {
+        let declared = entry.settings.iter().any(|s| s.name == name);
+        if Some(name.as_str()) == axis || !declared {
+            continue;
+        }
+        if values.len() > 1 {
+            return Err(InputError::new(format!(
+                "--{name}: vkgi profile sweeps only a method's size axis; give one value"
+            )));
+        }
+        singles.extend(values.first().map(|v| (name.clone(), v.clone())));
+    }
+    let base = entry.settings(&singles)?;
+    let Some(axis) = axis else {
+        return Ok(vec![(None, base)]);
+    };
+    let given = grid.iter().find(|(n, _)| n == axis).map(|(_, v)| v.clone());
+    let values: Vec<String> = match given {
+        Some(values) => values,
+        None => {
+            let sweep = entry
+                .settings
+                .iter()
+                .find(|s| s.name == axis)
+                .map_or(&[][..], |s| s.sweep);
+            sweep.iter().map(|v| v.to_string()).collect()
+        }
+    };
+    values
+        .into_iter()
+        .map(|value| {
+            let mut settings = base.clone();
+            settings
+                .set(axis, &value)
+                .map_err(|e| InputError::new(format!("{} (method {})", e.0, entry.name)))?;
+            Ok((Some(value), settings))
+        })
+        .collect()
+}
+
+/// Profile every configuration of `config`; `progress(done, total)` after each.
 pub fn run(
     gpu: &Gpu,
     config: &ProfileConfig,
     mut progress: impl FnMut(u32, u32),
 ) -> anyhow::Result<ProfileResult> {
     let scene = Scene::load(&config.scene)?;
+    let mut plan = Vec::new();
+    for entry in entries(&config.methods)? {
+        for (value, settings) in configurations(entry, &config.grid)? {
+            plan.push((entry, value, settings));
+        }
+    }
     let limits = limits::measure(gpu).context("measuring the device's limits")?;
-    let frame = Frame::new(
+    let mut frame = Frame::new(
         gpu,
         &scene,
         FrameOptions {
             width: config.size.0,
             height: config.size.1,
-            channel_plan: config.channel_plan,
+            submit: config.submit,
             ..FrameOptions::default()
         },
     )?;
-    let total = (config.methods.len() * config.lattices.len()) as u32;
+    let total = plan.len() as u32;
     let mut configs = Vec::new();
     let mut passes = Vec::new();
-    for &method in &config.methods {
-        for &lattice in &config.lattices {
-            let settings = LpvSettings {
-                scheme: method,
-                lattice,
-                iterations: config.iterations,
-                tiled: config.tiled,
-                ..LpvSettings::default()
-            };
-            let start = Instant::now();
-            let mut lpv = Lpv::new(gpu, &scene, settings)?;
-            let setup_ms = start.elapsed().as_secs_f64() * 1e3;
-            let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2)?;
-            for _ in 0..config.warmup {
-                frame.submit(gpu, &mut ring, Some(&mut lpv))?;
-            }
-            ring.finish()?;
-            ring.profiler.clear();
-            for _ in 0..config.frames {
-                frame.submit(gpu, &mut ring, Some(&mut lpv))?;
-            }
-            ring.finish()?;
-            let report = ring.profiler.report();
-            let cells = lpv.lattice.cell_count();
-            let bytes = cost::bytes_per_cell(method, true);
-            let flops = cost::flops_per_cell(method);
-            let bound = limits.bound_ns(bytes * cells as f64, flops * cells as f64);
-            let mut step_times = Vec::new();
-            for p in &report.passes {
-                let propagation = is_propagation(&p.name);
-                if propagation {
-                    step_times.extend(p.per_frame_ns.iter().copied());
-                }
-                passes.push(PassRow {
-                    method,
-                    lattice,
-                    pass: p.name.clone(),
-                    median_ns: p.median_ns,
-                    min_ns: p.min_ns,
-                    max_ns: p.max_ns,
-                    ns_per_cell_step: propagation.then(|| p.median_ns / cells as f64),
-                    fraction_of_bound: propagation.then(|| bound / p.median_ns),
-                });
-            }
-            let frame_median_ns = report.frame.as_ref().map_or(0.0, |f| f.median_ns);
+    for (entry, value, settings) in plan {
+        let start = Instant::now();
+        let mut method = entry.create(&Setup::new(gpu, &scene), &settings)?;
+        let setup_ms = start.elapsed().as_secs_f64() * 1e3;
+        let ring = run_frames(
+            gpu,
+            &mut frame,
+            Some(method.as_mut()),
+            config.warmup,
+            config.frames,
+        )?;
+        let report = ring.profiler.report();
+        let core = method.core_pass();
+        let bound = core.as_ref().map(|c| {
+            limits.bound_ns(
+                c.bytes_per_unit * c.units as f64,
+                c.flops_per_unit * c.units as f64,
+            )
+        });
+        let timings = report.passes.iter().chain(report.frame.as_ref());
+        for p in timings {
+            let is_core = core
+                .as_ref()
+                .is_some_and(|c| p.tag.method == Some(entry.name) && p.tag.pass == c.pass);
             passes.push(PassRow {
-                method,
-                lattice,
-                pass: "frame".into(),
-                median_ns: frame_median_ns,
-                min_ns: report.frame.as_ref().map_or(0.0, |f| f.min_ns),
-                max_ns: report.frame.as_ref().map_or(0.0, |f| f.max_ns),
-                ns_per_cell_step: None,
-                fraction_of_bound: None,
+                method: entry.name,
+                axis: entry.profile_axis,
+                value: value.clone(),
+                pass: p.name.clone(),
+                stage: p.tag.stage,
+                median_ns: p.median_ns,
+                min_ns: p.min_ns,
+                max_ns: p.max_ns,
+                ns_per_unit: core
+                    .as_ref()
+                    .filter(|_| is_core)
+                    .map(|c| p.median_ns / c.units as f64),
+                fraction_of_bound: bound.filter(|_| is_core).map(|b| b / p.median_ns),
             });
-            let step = summarize("step", step_times.len(), step_times).median_ns;
-            let description = lpv_kernel_line(&lpv);
-            let d = lpv.lattice.dims;
-            configs.push(ConfigSummary {
-                method,
-                lattice,
-                dims: [d.x, d.y, d.z],
-                cells,
-                kernel: description,
-                channel_plan: frame.channel_plan(),
-                setup_ms,
-                frame_median_ns,
-                step_median_ns: step,
-                ns_per_cell_step: step / cells as f64,
-                fraction_of_bound: if step > 0.0 { bound / step } else { 0.0 },
-                bytes_per_cell: bytes,
-                flops_per_cell: flops,
-            });
-            progress(configs.len() as u32, total);
         }
+        let core = core.map(|c| {
+            let median = core_pass_median(&report, entry.name, c.pass);
+            let units = c.units.max(1) as f64;
+            CoreSummary {
+                pass: c.pass,
+                unit: c.unit,
+                units: c.units,
+                median_ns: median,
+                ns_per_unit: median / units,
+                fraction_of_bound: match bound {
+                    Some(b) if median > 0.0 => b / median,
+                    _ => 0.0,
+                },
+                bytes_per_unit: c.bytes_per_unit,
+                flops_per_unit: c.flops_per_unit,
+            }
+        });
+        configs.push(ConfigSummary {
+            method: entry.name,
+            axis: entry.profile_axis,
+            value,
+            description: method.describe(),
+            submit_plan: frame.submit_plan(),
+            setup_ms,
+            frame_median_ns: report.frame.as_ref().map_or(0.0, |f| f.median_ns),
+            core,
+        });
+        progress(configs.len() as u32, total);
     }
-    let scaling = config
-        .methods
-        .iter()
-        .map(|&method| Scaling {
-            method,
-            exponent: fit_exponent(
-                configs
-                    .iter()
-                    .filter(|c| c.method == method && c.step_median_ns > 0.0)
-                    .map(|c| (c.cells as f64, c.step_median_ns)),
-            ),
-        })
-        .collect();
+    let mut scaling: Vec<Scaling> = Vec::new();
+    for c in &configs {
+        if c.core.is_none() || scaling.iter().any(|s| s.method == c.method) {
+            continue;
+        }
+        let points = configs
+            .iter()
+            .filter(|o| o.method == c.method)
+            .filter_map(|o| o.core.as_ref())
+            .filter(|k| k.median_ns > 0.0)
+            .map(|k| (k.units as f64, k.median_ns));
+        scaling.push(Scaling {
+            method: c.method,
+            exponent: fit_exponent(points),
+        });
+    }
     Ok(ProfileResult {
         device: gpu.info.name.clone(),
         driver: gpu.info.driver.clone(),
@@ -212,12 +286,18 @@ pub fn run(
     })
 }
 
-fn lpv_kernel_line(lpv: &Lpv) -> String {
-    use crate::gi::Technique;
-    lpv.describe().get(1).cloned().unwrap_or_default()
+/// The median time of one run of `method`'s core pass `pass` in `report` (0 if it never ran).
+pub fn core_pass_median(report: &ProfileReport, method: &str, pass: &str) -> f64 {
+    let times: Vec<f64> = report
+        .passes
+        .iter()
+        .filter(|p| p.tag.method == Some(method) && p.tag.pass == pass)
+        .flat_map(|p| p.per_frame_ns.iter().copied())
+        .collect();
+    summarize("core", times.len(), times).median_ns
 }
 
-/// Least-squares slope of ln(time) against ln(cells); NaN with fewer than two sizes.
+/// Least-squares slope of ln(time) against ln(units); NaN with fewer than two sizes.
 pub fn fit_exponent(points: impl Iterator<Item = (f64, f64)>) -> f64 {
     let p: Vec<(f64, f64)> = points.map(|(x, y)| (x.ln(), y.ln())).collect();
     if p.len() < 2 {
@@ -234,6 +314,16 @@ pub fn fit_exponent(points: impl Iterator<Item = (f64, f64)>) -> f64 {
     p.iter().map(|q| (q.0 - mx) * (q.1 - my)).sum::<f64>() / sxx
 }
 
+impl ConfigSummary {
+    /// "METHOD AXIS VALUE" (e.g. a lattice size), or the method alone.
+    pub fn label(&self) -> String {
+        match (self.axis, &self.value) {
+            (Some(axis), Some(value)) => format!("{} {axis} {value}", self.method),
+            _ => self.method.to_string(),
+        }
+    }
+}
+
 impl ProfileResult {
     /// The table for humans.
     pub fn table(&self) -> String {
@@ -248,55 +338,77 @@ impl ProfileResult {
         for c in &self.configs {
             let _ = writeln!(
                 out,
-                "\n{:?} lattice {} ({}x{}x{} = {} cells), {}, channels {:?}, setup {:.0} ms (CPU)",
-                c.method,
-                c.lattice,
-                c.dims[0],
-                c.dims[1],
-                c.dims[2],
-                c.cells,
-                c.kernel,
-                c.channel_plan,
+                "\n{}: parts {:?}, set-up {:.0} ms (CPU)",
+                c.label(),
+                c.submit_plan,
                 c.setup_ms
             );
+            for line in &c.description {
+                let _ = writeln!(out, "  {line}");
+            }
+            let unit = c.core.as_ref().map_or("unit", |k| k.unit);
             let _ = writeln!(
                 out,
                 "  {:<24} {:>13} {:>13} {:>13} {:>10} {:>8}",
-                "pass", "median ns", "min ns", "max ns", "ns/cell", "% bound"
+                "pass",
+                "median ns",
+                "min ns",
+                "max ns",
+                format!("ns/{unit}"),
+                "% bound"
             );
             for p in self
                 .passes
                 .iter()
-                .filter(|p| p.method == c.method && p.lattice == c.lattice)
+                .filter(|p| p.method == c.method && p.value == c.value)
             {
-                let per_cell = p
-                    .ns_per_cell_step
-                    .map_or(String::new(), |v| format!("{v:.2}"));
+                let per_unit = p.ns_per_unit.map_or(String::new(), |v| format!("{v:.2}"));
                 let fraction = p
                     .fraction_of_bound
                     .map_or(String::new(), |v| format!("{:.1}%", 100.0 * v));
                 let _ = writeln!(
                     out,
                     "  {:<24} {:>13.0} {:>13.0} {:>13.0} {:>10} {:>8}",
-                    p.pass, p.median_ns, p.min_ns, p.max_ns, per_cell, fraction
+                    p.pass, p.median_ns, p.min_ns, p.max_ns, per_unit, fraction
                 );
             }
-            let _ = writeln!(
-                out,
-                "  step: {:.0} ns median, {:.2} ns per cell, {:.1}% of the device bound ({} B, {} flops per cell)",
-                c.step_median_ns,
-                c.ns_per_cell_step,
-                100.0 * c.fraction_of_bound,
-                c.bytes_per_cell,
-                c.flops_per_cell
-            );
+            if let Some(k) = &c.core {
+                let _ = writeln!(
+                    out,
+                    "  {}: {:.0} ns median over {} {}s, {:.2} ns per {}, {:.1}% of the device bound ({} B, {} flops per {})",
+                    k.pass,
+                    k.median_ns,
+                    k.units,
+                    k.unit,
+                    k.ns_per_unit,
+                    k.unit,
+                    100.0 * k.fraction_of_bound,
+                    k.bytes_per_unit,
+                    k.flops_per_unit,
+                    k.unit
+                );
+            }
         }
         for s in &self.scaling {
-            let _ = writeln!(
-                out,
-                "\nscaling {:?}: step time ∝ cells^{:.3} (ideal 1.0)",
-                s.method, s.exponent
-            );
+            let unit = self
+                .configs
+                .iter()
+                .find(|c| c.method == s.method)
+                .and_then(|c| c.core.as_ref())
+                .map_or("unit", |k| k.unit);
+            if s.exponent.is_finite() {
+                let _ = writeln!(
+                    out,
+                    "\nscaling {}: core pass time ∝ {unit}s^{:.3} (ideal 1.0)",
+                    s.method, s.exponent
+                );
+            } else {
+                let _ = writeln!(
+                    out,
+                    "\nscaling {}: not fitted (it needs two sizes or more)",
+                    s.method
+                );
+            }
         }
         out
     }
@@ -304,20 +416,22 @@ impl ProfileResult {
     /// One CSV line per pass.
     pub fn csv(&self) -> String {
         let mut out = String::from(
-            "method,lattice,pass,median_ns,min_ns,max_ns,ns_per_cell_step,fraction_of_bound\n",
+            "method,axis,value,pass,stage,median_ns,min_ns,max_ns,ns_per_unit,fraction_of_bound\n",
         );
         for p in &self.passes {
             let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v}"));
             let _ = writeln!(
                 out,
-                "{:?},{},{},{},{},{},{},{}",
+                "{},{},{},{},{:?},{},{},{},{},{}",
                 p.method,
-                p.lattice,
+                p.axis.unwrap_or(""),
+                p.value.as_deref().unwrap_or(""),
                 p.pass,
+                p.stage,
                 p.median_ns,
                 p.min_ns,
                 p.max_ns,
-                opt(p.ns_per_cell_step),
+                opt(p.ns_per_unit),
                 opt(p.fraction_of_bound)
             );
         }
@@ -330,23 +444,20 @@ pub fn run_command(args: &ProfileCommandArgs) -> anyhow::Result<()> {
     if args.frames == 0 {
         crate::bad_input!("--frames must be at least 1");
     }
-    if args.lattice.is_empty() || args.method.is_empty() {
-        crate::bad_input!("--method and --lattice each need at least one value");
-    }
     let config = ProfileConfig {
         scene: args.scene.clone(),
         methods: args.method.clone(),
-        lattices: args.lattice.clone(),
-        iterations: args.iterations,
+        grid: args.grid.values.clone(),
         warmup: args.warmup,
         frames: args.frames,
         size: args.size,
-        channel_plan: args.channels,
-        tiled: !args.naive,
+        submit: args.parts,
     };
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
-    let mut bar = ProgressBar::counting("profile", "configurations");
-    let result = run(&gpu, &config, |done, total| bar.update(done, total))?;
+    let bar = super::progress::counting("profile", "configurations");
+    let result = run(&gpu, &config, |done, total| {
+        super::progress::update(&bar, done, total)
+    })?;
     super::render::check_validation(&gpu)?;
     print!("{}", result.table());
     if let Some(path) = &args.json {
@@ -369,5 +480,32 @@ mod tests {
         let e = fit_exponent([(10.0, 1.0), (100.0, 100.0)].into_iter());
         assert!((e - 2.0).abs() < 1e-12);
         assert!(fit_exponent([(10.0, 1.0)].into_iter()).is_nan());
+    }
+
+    #[test]
+    fn only_the_size_axis_takes_a_list() {
+        let Some(entry) = registry::methods().find(|m| m.profile_axis.is_some()) else {
+            return;
+        };
+        let Some(axis) = entry.profile_axis else {
+            return;
+        };
+        let grid = vec![(axis.to_string(), vec!["4".to_string(), "8".to_string()])];
+        let configs = match configurations(entry, &grid) {
+            Ok(c) => c,
+            Err(e) => panic!("{e}"),
+        };
+        assert_eq!(configs.len(), 2);
+        let other = entry
+            .settings
+            .iter()
+            .find(|s| s.name != axis && !s.sweep.is_empty());
+        if let Some(other) = other {
+            let grid = vec![(
+                other.name.to_string(),
+                other.sweep.iter().map(|v| v.to_string()).collect(),
+            )];
+            assert!(configurations(entry, &grid).is_err());
+        }
     }
 }

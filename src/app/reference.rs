@@ -7,7 +7,7 @@ use anyhow::Context;
 use crate::gpu::Gpu;
 use crate::imageio;
 use crate::reference::cache::{self, CacheRecord};
-use crate::reference::{PathTracer, ProgressBar, ReferenceSettings};
+use crate::reference::{PathTracer, ReferenceSettings};
 use crate::scene::Scene;
 
 use super::cli::ReferenceArgs;
@@ -34,9 +34,11 @@ pub fn run(args: &ReferenceArgs) -> anyhow::Result<()> {
     }
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
     let mut tracer = PathTracer::new(&gpu, &scene, settings.width, settings.height)?;
-    let mut bar = ProgressBar::new("reference");
+    let bar = super::progress::counting("reference", "spp");
     let start = Instant::now();
-    let images = tracer.render(&gpu, &settings, |done, total| bar.update(done, total))?;
+    let images = tracer.render(&gpu, &settings, |done, total| {
+        super::progress::update(&bar, done, total)
+    })?;
     let seconds = start.elapsed().as_secs_f64();
     super::render::check_validation(&gpu)?;
     let record = CacheRecord {

@@ -2,54 +2,38 @@
 
 use anyhow::Context;
 
-use crate::frame::Frame;
-use crate::gi::Technique;
-use crate::gi::lpv::Lpv;
+use crate::gi::GiMethod;
 use crate::gpu::Gpu;
-use crate::gpu::frames::FrameRing;
 use crate::imageio::HdrImage;
+use crate::render::Frame;
+use crate::render::runner::run_frames;
 use crate::scene::Scene;
 
-use super::cli::{Method, RenderArgs};
-use super::output;
-
-/// Frames rendered for ILPV (whose light builds up over frames) or when profiling, when
-/// `--frames` is not given.
-const DEFAULT_MANY_FRAMES: u32 = 16;
-/// Frames in flight in the frame ring.
-const FRAMES_IN_FLIGHT: usize = 2;
+use super::cli::RenderArgs;
+use super::{method, output};
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let scene = Scene::load(&args.scene)?;
+    let chosen = method::choose(&args.gi.method, &args.gi.settings.values)?;
     let frames = match args.frames {
         Some(0) => crate::bad_input!("--frames must be at least 1"),
         Some(n) => n,
-        None if args.profile.wanted() || args.gi.method == Method::Ilpv => DEFAULT_MANY_FRAMES,
-        None => 1,
+        None => chosen
+            .as_ref()
+            .map_or(1, |c| (c.entry.settle_frames)(&c.settings)),
     };
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
-    let frame = Frame::new(&gpu, &scene, args.frame.options())?;
-    let mut technique: Option<Box<dyn Technique>> = match args.gi.lpv_settings() {
-        Some(settings) => Some(Box::new(Lpv::new(&gpu, &scene, settings)?)),
+    let mut frame = Frame::new(&gpu, &scene, args.frame.options())?;
+    let mut gi = match &chosen {
+        Some(c) => Some(method::build(&gpu, &scene, c, None)?),
         None => None,
     };
-    let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, FRAMES_IN_FLIGHT)?;
-    ring.profiler
-        .add_note(format!("queue plan: {}", gpu.queues.describe()));
-    for line in technique.iter().flat_map(|t| t.describe()) {
-        ring.profiler.add_note(line);
-    }
-    if technique.is_some() {
-        ring.profiler
-            .add_note(format!("colour channels: {:?} plan", frame.channel_plan()));
-    }
-    for _ in 0..frames {
-        // Shorten the boxed object's lifetime to this frame's borrow.
-        let gi = technique.as_mut().map(|t| t.as_mut() as &mut dyn Technique);
-        frame.submit(&gpu, &mut ring, gi)?;
-    }
-    ring.finish()?;
+    let method = gi.as_mut().map(|g| g.as_mut() as &mut dyn GiMethod);
+    let ring = run_frames(&gpu, &mut frame, method, 0, frames)?;
     check_validation(&gpu)?;
+    if let Some(c) = gi.as_ref().and_then(|g| g.convergence()) {
+        log::info!("after {frames} frames: {} {:.3e}", c.measure, c.remaining);
+    }
 
     let size = (frame.options.width, frame.options.height);
     output::write_images(

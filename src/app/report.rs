@@ -1,27 +1,33 @@
-//! `vkgi report`: every GI method over a grid of its settings, scored against the cached
-//! reference (indirect light alone and the full image), timed with the GPU profiler, written as
-//! report.md, report.json, plots and an image strip.
+//! `vkgi report`: every registered GI method (the ambient baseline among them) over a grid of
+//! its settings, scored against the cached reference (indirect light alone and the full image),
+//! timed with the GPU profiler, written as report.md, report.json, plots and an image strip.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::Context;
+use image::RgbImage;
 use serde::Serialize;
 
-use crate::frame::{Frame, FrameOptions};
-use crate::gi::lpv::{Lpv, LpvSettings, Scheme};
+use crate::error::InputError;
+use crate::gi::registry::{MethodEntry, Setup};
+use crate::gi::settings::Settings;
 use crate::gpu::Gpu;
-use crate::gpu::frames::FrameRing;
-use crate::gpu::profiler::summarize;
 use crate::imageio::{self, HdrImage};
-use crate::metrics::plot::{PALETTE, Plot, Series, pareto_front};
+use crate::metrics::plot::{Plot, Series, pareto_front, strip};
 use crate::metrics::{self, Metrics};
 use crate::reference::cache::{self, CacheRecord};
-use crate::reference::{Bounces, PathTracer, ProgressBar, ReferenceImages, ReferenceSettings};
+use crate::reference::{Bounces, PathTracer, ReferenceImages, ReferenceSettings};
+use crate::render::runner::run_frames;
+use crate::render::{Frame, FrameOptions};
 use crate::scene::Scene;
 
 use super::cli::ReportArgs;
+use super::profile::{core_pass_median, entries};
+
+/// The registered name of the baseline every method's error is read against.
+const BASELINE: &str = "ambient";
 
 /// What the report covers.
 #[derive(Clone, Debug)]
@@ -30,29 +36,36 @@ pub struct ReportConfig {
     pub out_dir: PathBuf,
     pub size: (u32, u32),
     pub spp: u32,
-    pub methods: Vec<Scheme>,
-    pub lattices: Vec<u32>,
-    pub iterations: Vec<u32>,
-    pub incrementals: Vec<f32>,
-    /// Frames per ILPV run; None: enough for the blend to settle (λ^frames < 1%).
+    /// Registered method names (empty: every registered method).
+    pub methods: Vec<String>,
+    /// Setting values to sweep (settings not listed sweep their defaults' values).
+    pub grid: Vec<(String, Vec<String>)>,
+    /// Frames per run; None: as many as each configuration needs to settle.
     pub frames: Option<u32>,
+}
+
+/// The cost of a method's core pass (e.g. one propagation step of one channel, per cell).
+#[derive(Clone, Debug, Serialize)]
+pub struct CoreCost {
+    pub pass: &'static str,
+    pub unit: &'static str,
+    pub units: usize,
+    pub ns_per_unit: f64,
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct ReportRow {
-    pub method: Scheme,
-    pub lattice: u32,
-    pub iterations: u32,
-    /// λ_incr (ILPV only).
-    pub incremental: Option<f32>,
+    pub method: &'static str,
+    /// The swept settings of this row, as (name, value).
+    pub settings: Vec<(String, String)>,
     pub frames: u32,
     /// Median GPU time of a frame (raster passes included), milliseconds.
     pub ms_per_frame: f64,
-    /// Median time of one propagation step of one channel per cell, nanoseconds.
-    pub ns_per_cell_step: f64,
-    pub cells: usize,
+    pub core: Option<CoreCost>,
     pub indirect: Metrics,
     pub full: Metrics,
+    /// Indirect relMSE over the ambient baseline's (below 1 beats it).
+    pub rel_mse_vs_ambient: Option<f64>,
     /// The full image, tone-mapped (relative to the report folder).
     pub image: String,
 }
@@ -71,24 +84,45 @@ pub struct Report {
     pub device: String,
     pub size: (u32, u32),
     pub reference: ReportReference,
-    /// The best constant ambient term (albedo times one k fitted to the reference).
-    pub ambient: Metrics,
     pub rows: Vec<ReportRow>,
 }
 
-/// Frames for the ILPV blend to settle: λ^frames below 1%, at least 4.
-fn settle_frames(incremental: f32) -> u32 {
-    if incremental <= 0.0 {
-        return 4;
-    }
-    ((0.01f64.ln() / f64::from(incremental).ln()).ceil() as u32 + 1).max(4)
-}
+/// The swept settings of one configuration, as (name, value).
+pub type Combination = Vec<(String, String)>;
 
-fn method_name(scheme: Scheme) -> &'static str {
-    match scheme {
-        Scheme::Lpv => "lpv",
-        Scheme::Ilpv => "ilpv",
+/// Every configuration of `entry`: the combinations of the values of each setting the user
+/// listed or the method sweeps by default, as (swept values, settings).
+pub fn grid(
+    entry: &MethodEntry,
+    user: &[(String, Vec<String>)],
+) -> Result<Vec<(Combination, Settings)>, InputError> {
+    let mut combinations: Vec<Combination> = vec![Vec::new()];
+    for setting in entry.settings {
+        let values: Vec<String> = match user.iter().find(|(n, _)| n == setting.name) {
+            Some((_, values)) => values.clone(),
+            None => setting.sweep.iter().map(|v| v.to_string()).collect(),
+        };
+        if values.is_empty() {
+            continue;
+        }
+        combinations = combinations
+            .into_iter()
+            .flat_map(|c| {
+                values.iter().map(move |v| {
+                    let mut next = c.clone();
+                    next.push((setting.name.to_string(), v.clone()));
+                    next
+                })
+            })
+            .collect();
     }
+    combinations
+        .into_iter()
+        .map(|combination| {
+            let settings = entry.settings(&combination)?;
+            Ok((combination, settings))
+        })
+        .collect()
 }
 
 /// The reference at `dir/reference.exr`: reused if its sidecar matches, else rendered.
@@ -120,9 +154,9 @@ fn reference(
         return Ok((images, info));
     }
     let mut tracer = PathTracer::new(gpu, scene, settings.width, settings.height)?;
-    let mut bar = ProgressBar::new("reference");
+    let bar = super::progress::counting("reference", "spp");
     let start = Instant::now();
-    let images = tracer.render(gpu, &settings, |d, t| bar.update(d, t))?;
+    let images = tracer.render(gpu, &settings, |d, t| super::progress::update(&bar, d, t))?;
     let seconds = start.elapsed().as_secs_f64();
     let record = CacheRecord {
         key,
@@ -142,46 +176,6 @@ fn reference(
     ))
 }
 
-/// Per-pixel albedo of what each pixel sees (0 for background), by CPU ray casting.
-pub fn albedo_image(scene: &Scene, width: u32, height: u32) -> Vec<[f32; 3]> {
-    (0..height)
-        .flat_map(|y| (0..width).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let dir = scene.camera.ray_direction(
-                glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5),
-                width,
-                height,
-            );
-            scene
-                .mesh
-                .intersect(scene.camera.position, dir, 1e-4, 1e9)
-                .map_or([0.0; 3], |hit| {
-                    scene.materials[scene.mesh.materials[hit.triangle] as usize]
-                        .albedo
-                        .to_array()
-                })
-        })
-        .collect()
-}
-
-/// Albedo times the k that minimises the squared error against `truth`.
-pub fn constant_ambient(albedo: &[[f32; 3]], truth: &HdrImage) -> HdrImage {
-    let (num, den) = albedo
-        .iter()
-        .zip(&truth.pixels)
-        .fold((0.0f64, 0.0f64), |(n, d), (a, t)| {
-            (0..3).fold((n, d), |(n, d), c| {
-                (n + f64::from(a[c] * t[c]), d + f64::from(a[c] * a[c]))
-            })
-        });
-    let k = if den > 0.0 { (num / den) as f32 } else { 0.0 };
-    HdrImage::new(
-        truth.width,
-        truth.height,
-        albedo.iter().map(|a| a.map(|v| v * k)).collect(),
-    )
-}
-
 fn add(a: &HdrImage, b: &HdrImage) -> HdrImage {
     let pixels = a
         .pixels
@@ -192,24 +186,30 @@ fn add(a: &HdrImage, b: &HdrImage) -> HdrImage {
     HdrImage::new(a.width, a.height, pixels)
 }
 
-fn write_tonemapped(path: &Path, image: &HdrImage) -> anyhow::Result<()> {
-    let rgba: Vec<u8> = metrics::tonemap_srgb8(image)
-        .chunks_exact(3)
-        .flat_map(|p| [p[0], p[1], p[2], 255])
-        .collect();
-    imageio::write_png(path, image.width, image.height, &rgba)
+fn tonemapped(image: &HdrImage) -> anyhow::Result<RgbImage> {
+    RgbImage::from_raw(image.width, image.height, metrics::tonemap_srgb8(image))
+        .context("tone-mapped image size")
+}
+
+fn write_png(path: &Path, image: &RgbImage) -> anyhow::Result<()> {
+    imageio::write_atomically(path, |tmp| {
+        image
+            .save_with_format(tmp, image::ImageFormat::Png)
+            .with_context(|| format!("writing {}", path.display()))
+    })
 }
 
 /// Render the direct light (no GI) once.
-fn direct_image(gpu: &Gpu, scene: &Scene, frame: &Frame) -> anyhow::Result<HdrImage> {
-    let options = FrameOptions {
-        indirect_only: false,
-        ..frame.options.clone()
-    };
-    let direct = Frame::new(gpu, scene, options)?;
-    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2)?;
-    direct.submit(gpu, &mut ring, None)?;
-    ring.finish()?;
+fn direct_image(gpu: &Gpu, scene: &Scene, options: &FrameOptions) -> anyhow::Result<HdrImage> {
+    let mut direct = Frame::new(
+        gpu,
+        scene,
+        FrameOptions {
+            indirect_only: false,
+            ..options.clone()
+        },
+    )?;
+    run_frames(gpu, &mut direct, None, 0, 1)?;
     Ok(HdrImage::new(
         direct.options.width,
         direct.options.height,
@@ -217,51 +217,85 @@ fn direct_image(gpu: &Gpu, scene: &Scene, frame: &Frame) -> anyhow::Result<HdrIm
     ))
 }
 
-/// One configuration: its indirect image, frame time and step time per cell.
+/// What one configuration produced.
+struct Run {
+    indirect: HdrImage,
+    ms_per_frame: f64,
+    core: Option<CoreCost>,
+}
+
+/// Build `entry` with `settings` and run `frames` frames (the first untimed): its indirect
+/// image, frame time and core-pass cost.
 fn run_config(
     gpu: &Gpu,
     scene: &Scene,
-    frame: &Frame,
-    settings: LpvSettings,
+    frame: &mut Frame,
+    truth: &ReferenceImages,
+    (entry, settings): (&MethodEntry, &Settings),
     frames: u32,
-) -> anyhow::Result<(HdrImage, f64, f64, usize)> {
-    let mut lpv = Lpv::new(gpu, scene, settings)?;
-    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2)?;
-    // The first frame compiles shaders on some drivers: not timed.
-    frame.submit(gpu, &mut ring, Some(&mut lpv))?;
-    ring.finish()?;
-    ring.profiler.clear();
-    for _ in 1..frames.max(2) {
-        frame.submit(gpu, &mut ring, Some(&mut lpv))?;
-    }
-    ring.finish()?;
+) -> anyhow::Result<Run> {
+    let setup = Setup {
+        gpu,
+        scene,
+        reference: Some(truth),
+        progress: &|_, _| {},
+    };
+    let mut method = entry.create(&setup, settings)?;
+    let ring = run_frames(gpu, frame, Some(method.as_mut()), 1, frames.max(2) - 1)?;
     let report = ring.profiler.report();
-    let frame_ms = report.frame.as_ref().map_or(0.0, |f| f.median_ns / 1e6);
-    let steps: Vec<f64> = report
-        .passes
-        .iter()
-        .filter(|p| p.name.starts_with("propagate "))
-        .flat_map(|p| p.per_frame_ns.iter().copied())
+    let core = method.core_pass().map(|c| CoreCost {
+        pass: c.pass,
+        unit: c.unit,
+        units: c.units,
+        ns_per_unit: core_pass_median(&report, entry.name, c.pass) / c.units.max(1) as f64,
+    });
+    Ok(Run {
+        indirect: HdrImage::new(
+            frame.options.width,
+            frame.options.height,
+            frame.read_hdr(gpu)?,
+        ),
+        ms_per_frame: report.frame.as_ref().map_or(0.0, |f| f.median_ns / 1e6),
+        core,
+    })
+}
+
+/// The file name of a row's image: the method and its swept settings.
+fn image_name(method: &str, settings: &[(String, String)]) -> String {
+    let mut name = method.to_string();
+    for (setting, value) in settings {
+        name.push('-');
+        name.push_str(setting);
+        name.push_str(value);
+    }
+    let safe: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
-    let cells = lpv.lattice.cell_count();
-    let step_ns = summarize("step", steps.len(), steps).median_ns / cells as f64;
-    let image = HdrImage::new(
-        frame.options.width,
-        frame.options.height,
-        frame.read_hdr(gpu)?,
-    );
-    Ok((image, frame_ms, step_ns, cells))
+    format!("images/{safe}.png")
 }
 
 /// Run the whole report.
 pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
     let scene = Scene::load(&config.scene)?;
+    let mut plan = Vec::new();
+    for entry in entries(&config.methods)? {
+        for (swept, settings) in grid(entry, &config.grid)? {
+            plan.push((entry, swept, settings));
+        }
+    }
     std::fs::create_dir_all(config.out_dir.join("images"))
         .with_context(|| format!("creating {}", config.out_dir.display()))?;
     let (truth, reference_info) = reference(gpu, &scene, config)?;
     let truth_full = truth.combined();
     let (w, h) = config.size;
-    let frame = Frame::new(
+    let mut frame = Frame::new(
         gpu,
         &scene,
         FrameOptions {
@@ -271,99 +305,65 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
             ..FrameOptions::default()
         },
     )?;
-    let direct = direct_image(gpu, &scene, &frame)?;
-    let albedo = albedo_image(&scene, w, h);
-    let ambient = metrics::compare(
-        &constant_ambient(&albedo, &truth.indirect),
-        &truth.indirect,
-        None,
-    )?;
+    let direct = direct_image(gpu, &scene, &frame.options)?;
 
-    let mut grid: Vec<LpvSettings> = Vec::new();
-    for &scheme in &config.methods {
-        for &lattice in &config.lattices {
-            for &iterations in &config.iterations {
-                let lambdas: Vec<f32> = match scheme {
-                    Scheme::Ilpv => config.incrementals.clone(),
-                    Scheme::Lpv => vec![0.0],
-                };
-                for incremental in lambdas {
-                    grid.push(LpvSettings {
-                        scheme,
-                        lattice,
-                        iterations,
-                        incremental,
-                        ..LpvSettings::default()
-                    });
-                }
-            }
-        }
-    }
-    let mut bar = ProgressBar::counting("report", "configurations");
+    let bar = super::progress::counting("report", "configurations");
     let mut rows = Vec::new();
-    for (i, settings) in grid.iter().enumerate() {
-        let frames = match settings.scheme {
-            Scheme::Ilpv => config
-                .frames
-                .unwrap_or_else(|| settle_frames(settings.incremental)),
-            Scheme::Lpv => 3,
-        };
-        let (indirect, ms, ns_per_cell, cells) =
-            run_config(gpu, &scene, &frame, settings.clone(), frames)?;
-        let full = add(&direct, &indirect);
-        let name = match settings.scheme {
-            Scheme::Ilpv => format!(
-                "ilpv-l{}-i{}-lambda{}.png",
-                settings.lattice, settings.iterations, settings.incremental
-            ),
-            Scheme::Lpv => format!("lpv-l{}-i{}.png", settings.lattice, settings.iterations),
-        };
-        let image = format!("images/{name}");
-        write_tonemapped(&config.out_dir.join(&image), &full)?;
+    for (i, (entry, swept, settings)) in plan.iter().enumerate() {
+        let frames = config
+            .frames
+            .unwrap_or_else(|| (entry.settle_frames)(settings));
+        let run = run_config(gpu, &scene, &mut frame, &truth, (entry, settings), frames)?;
+        let full = add(&direct, &run.indirect);
+        let image = image_name(entry.name, swept);
+        write_png(&config.out_dir.join(&image), &tonemapped(&full)?)?;
         rows.push(ReportRow {
-            method: settings.scheme,
-            lattice: settings.lattice,
-            iterations: settings.iterations,
-            incremental: (settings.scheme == Scheme::Ilpv).then_some(settings.incremental),
-            frames,
-            ms_per_frame: ms,
-            ns_per_cell_step: ns_per_cell,
-            cells,
-            indirect: metrics::compare(&indirect, &truth.indirect, None)?,
+            method: entry.name,
+            settings: swept.clone(),
+            frames: frames.max(2),
+            ms_per_frame: run.ms_per_frame,
+            core: run.core,
+            indirect: metrics::compare(&run.indirect, &truth.indirect, None)?,
             full: metrics::compare(&full, &truth_full, None)?,
+            rel_mse_vs_ambient: None,
             image,
         });
-        bar.update(i as u32 + 1, grid.len() as u32);
+        super::progress::update(&bar, i as u32 + 1, plan.len() as u32);
+    }
+    let baseline = rows
+        .iter()
+        .filter(|r| r.method == BASELINE)
+        .map(|r| r.indirect.rel_mse)
+        .fold(f64::INFINITY, f64::min);
+    if baseline.is_finite() && baseline > 0.0 {
+        for row in &mut rows {
+            row.rel_mse_vs_ambient = Some(row.indirect.rel_mse / baseline);
+        }
     }
     let report = Report {
         scene: scene.name.clone(),
         device: gpu.info.name.clone(),
         size: config.size,
         reference: reference_info,
-        ambient,
         rows,
     };
-    write_outputs(gpu, &scene, config, &report, &direct, &truth, &frame)?;
-    Ok(report)
-}
-
-fn write_outputs(
-    gpu: &Gpu,
-    scene: &Scene,
-    config: &ReportConfig,
-    report: &Report,
-    direct: &HdrImage,
-    truth: &ReferenceImages,
-    frame: &Frame,
-) -> anyhow::Result<()> {
     let dir = &config.out_dir;
     imageio::write_text(
         &dir.join("report.json"),
-        &serde_json::to_string_pretty(report)?,
+        &serde_json::to_string_pretty(&report)?,
     )?;
-    imageio::write_text(&dir.join("report.md"), &markdown(report))?;
-    write_plots(dir, report)?;
-    write_strip(gpu, scene, dir, direct, truth, frame)
+    imageio::write_text(&dir.join("report.md"), &markdown(&report))?;
+    write_plots(dir, &report)?;
+    let strip_methods: Vec<&MethodEntry> = entries(&config.methods)?;
+    write_strip(
+        gpu,
+        &scene,
+        dir,
+        (&direct, &truth),
+        &mut frame,
+        &strip_methods,
+    )?;
+    Ok(report)
 }
 
 fn markdown(report: &Report) -> String {
@@ -386,33 +386,39 @@ fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         out,
-        "Best constant ambient term (albedo x k fitted to the reference), indirect light: RMSE {:.5}, relMSE {:.5}, FLIP {:.4}.\n",
-        report.ambient.rmse, report.ambient.rel_mse, report.ambient.flip
+        "`{BASELINE}` is the baseline: albedo times one constant irradiance per channel, fitted by least squares to this reference's indirect light (an oracle). \"÷ {BASELINE}\" is a row's indirect relMSE over the baseline's: below 1 beats it.\n"
     );
     let _ = writeln!(
         out,
-        "![error against time](error_vs_time.png)\n\n![ns per cell](ns_per_cell.png)\n\n![strip](strip.png)\n"
+        "![error against time](error_vs_time.png)\n\n![ns per unit](ns_per_unit.png)\n\n![strip](strip.png)\n"
     );
     let _ = writeln!(
         out,
-        "| method | lattice | steps | λ_incr | frames | ms/frame | ns/cell/step | indirect RMSE | indirect relMSE | indirect FLIP | full RMSE | full relMSE | full FLIP | image |"
+        "| method | settings | frames | ms/frame | core ns/unit | indirect RMSE | indirect relMSE | ÷ {BASELINE} | indirect FLIP | full RMSE | full relMSE | full FLIP | image |"
     );
-    let _ = writeln!(
-        out,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-    );
+    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for r in &report.rows {
-        let lambda = r.incremental.map_or("-".to_string(), |l| format!("{l}"));
+        let settings = if r.settings.is_empty() {
+            "defaults".to_string()
+        } else {
+            r.settings
+                .iter()
+                .map(|(n, v)| format!("{n} {v}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let core = r.core.as_ref().map_or("-".to_string(), |c| {
+            format!("{:.2} ({} per {})", c.ns_per_unit, c.pass, c.unit)
+        });
+        let ratio = r
+            .rel_mse_vs_ambient
+            .map_or("-".to_string(), |v| format!("{v:.3}"));
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} | {:.2} | {:.2} | {:.5} | {:.5} | {:.4} | {:.5} | {:.5} | {:.4} | [png]({}) |",
-            method_name(r.method),
-            r.lattice,
-            r.iterations,
-            lambda,
+            "| {} | {settings} | {} | {:.2} | {core} | {:.5} | {:.5} | {ratio} | {:.4} | {:.5} | {:.5} | {:.4} | [png]({}) |",
+            r.method,
             r.frames,
             r.ms_per_frame,
-            r.ns_per_cell_step,
             r.indirect.rmse,
             r.indirect.rel_mse,
             r.indirect.flip,
@@ -425,6 +431,17 @@ fn markdown(report: &Report) -> String {
     out
 }
 
+/// The methods of the report's rows, in order of first appearance.
+fn row_methods(report: &Report) -> Vec<&'static str> {
+    let mut methods: Vec<&'static str> = Vec::new();
+    for r in &report.rows {
+        if !methods.contains(&r.method) {
+            methods.push(r.method);
+        }
+    }
+    methods
+}
+
 fn write_plots(dir: &Path, report: &Report) -> anyhow::Result<()> {
     let all: Vec<(f64, f64)> = report
         .rows
@@ -432,22 +449,20 @@ fn write_plots(dir: &Path, report: &Report) -> anyhow::Result<()> {
         .map(|r| (r.ms_per_frame, r.indirect.rmse))
         .collect();
     let front = pareto_front(&all);
-    let mut series = Vec::new();
-    for (k, scheme) in [Scheme::Lpv, Scheme::Ilpv].into_iter().enumerate() {
-        let idx: Vec<usize> = (0..report.rows.len())
-            .filter(|&i| report.rows[i].method == scheme)
-            .collect();
-        if idx.is_empty() {
-            continue;
-        }
-        series.push(Series {
-            label: method_name(scheme).to_string(),
-            points: idx.iter().map(|&i| all[i]).collect(),
-            marked: idx.iter().map(|&i| front[i]).collect(),
-            connect: false,
-            colour: PALETTE[k],
-        });
-    }
+    let series = row_methods(report)
+        .into_iter()
+        .map(|method| {
+            let idx: Vec<usize> = (0..report.rows.len())
+                .filter(|&i| report.rows[i].method == method)
+                .collect();
+            Series {
+                label: method.to_string(),
+                points: idx.iter().map(|&i| all[i]).collect(),
+                marked: idx.iter().map(|&i| front[i]).collect(),
+                connect: false,
+            }
+        })
+        .collect();
     let plot = Plot {
         title: format!(
             "{}: indirect RMSE against GPU ms per frame (ringed: Pareto front)",
@@ -457,116 +472,82 @@ fn write_plots(dir: &Path, report: &Report) -> anyhow::Result<()> {
         y_label: "indirect RMSE".into(),
         series,
     };
-    let img = plot.render();
-    imageio::write_atomically(&dir.join("error_vs_time.png"), |tmp| {
-        img.save_with_format(tmp, image::ImageFormat::Png)
-            .context("writing the plot")
-    })?;
+    write_png(&dir.join("error_vs_time.png"), &plot.render()?)?;
 
     let mut series = Vec::new();
-    for (k, scheme) in [Scheme::Lpv, Scheme::Ilpv].into_iter().enumerate() {
-        let mut by_lattice: Vec<(u32, usize, Vec<f64>)> = Vec::new();
-        for r in report
+    let mut units_name = "unit";
+    for method in row_methods(report) {
+        let mut by_units: Vec<(usize, Vec<f64>)> = Vec::new();
+        for core in report
             .rows
             .iter()
-            .filter(|r| r.method == scheme && r.ns_per_cell_step > 0.0)
+            .filter(|r| r.method == method)
+            .filter_map(|r| r.core.as_ref())
+            .filter(|c| c.ns_per_unit > 0.0)
         {
-            match by_lattice.iter_mut().find(|e| e.0 == r.lattice) {
-                Some(e) => e.2.push(r.ns_per_cell_step),
-                None => by_lattice.push((r.lattice, r.cells, vec![r.ns_per_cell_step])),
+            units_name = core.unit;
+            match by_units.iter_mut().find(|e| e.0 == core.units) {
+                Some(e) => e.1.push(core.ns_per_unit),
+                None => by_units.push((core.units, vec![core.ns_per_unit])),
             }
         }
-        by_lattice.sort_by_key(|e| e.1);
-        if by_lattice.is_empty() {
+        if by_units.is_empty() {
             continue;
         }
+        by_units.sort_by_key(|e| e.0);
         series.push(Series {
-            label: method_name(scheme).to_string(),
-            points: by_lattice
+            label: method.to_string(),
+            points: by_units
                 .into_iter()
-                .map(|(_, cells, v)| (cells as f64, summarize("", v.len(), v).median_ns))
+                .map(|(units, v)| {
+                    let median = crate::gpu::profiler::summarize("", v.len(), v).median_ns;
+                    (units as f64, median)
+                })
                 .collect(),
             marked: Vec::new(),
             connect: true,
-            colour: PALETTE[k],
         });
     }
     let plot = Plot {
         title: format!(
-            "{}: propagation ns per cell per step against lattice cells",
+            "{}: core pass ns per {units_name} against problem size",
             report.scene
         ),
-        x_label: "lattice cells".into(),
-        y_label: "ns per cell per step".into(),
+        x_label: format!("{units_name}s"),
+        y_label: format!("ns per {units_name} per run"),
         series,
     };
-    let img = plot.render();
-    imageio::write_atomically(&dir.join("ns_per_cell.png"), |tmp| {
-        img.save_with_format(tmp, image::ImageFormat::Png)
-            .context("writing the plot")
-    })
+    write_png(&dir.join("ns_per_unit.png"), &plot.render()?)
 }
 
-/// Reference, each method at its default settings, and their FLIP error maps, side by side.
+/// The reference, each method at its default settings, and their FLIP error maps, side by side.
 fn write_strip(
     gpu: &Gpu,
     scene: &Scene,
     dir: &Path,
-    direct: &HdrImage,
-    truth: &ReferenceImages,
-    frame: &Frame,
+    (direct, truth): (&HdrImage, &ReferenceImages),
+    frame: &mut Frame,
+    methods: &[&MethodEntry],
 ) -> anyhow::Result<()> {
     let reference = truth.combined();
-    let mut panels: Vec<(String, Vec<u8>)> =
-        vec![("reference".into(), metrics::tonemap_srgb8(&reference))];
+    let mut panels = vec![("reference".to_string(), tonemapped(&reference)?)];
     let mut maps = Vec::new();
-    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
-        let settings = LpvSettings {
-            scheme,
-            ..LpvSettings::default()
-        };
-        let frames = match scheme {
-            Scheme::Ilpv => settle_frames(settings.incremental),
-            Scheme::Lpv => 2,
-        };
-        let (indirect, _, _, _) = run_config(gpu, scene, frame, settings, frames)?;
-        let full = add(direct, &indirect);
-        panels.push((
-            method_name(scheme).to_string(),
-            metrics::tonemap_srgb8(&full),
-        ));
+    for entry in methods {
+        let settings = entry.settings(&[])?;
+        let frames = (entry.settle_frames)(&settings);
+        let run = run_config(gpu, scene, frame, truth, (entry, &settings), frames)?;
+        let full = add(direct, &run.indirect);
+        panels.push((entry.name.to_string(), tonemapped(&full)?));
         let rgb: Vec<u8> = metrics::flip_heatmap(&full, &reference)
             .chunks_exact(4)
             .flat_map(|p| [p[0], p[1], p[2]])
             .collect();
-        maps.push((format!("{} flip", method_name(scheme)), rgb));
+        let map =
+            RgbImage::from_raw(reference.width, reference.height, rgb).context("FLIP map size")?;
+        maps.push((format!("{} FLIP", entry.name), map));
     }
     panels.extend(maps);
-    let (w, h) = (reference.width, reference.height);
-    let label_height = 12;
-    let mut strip = image::RgbImage::from_pixel(
-        w * panels.len() as u32,
-        h + label_height,
-        image::Rgb([255, 255, 255]),
-    );
-    for (k, (label, rgb)) in panels.iter().enumerate() {
-        for y in 0..h {
-            for x in 0..w {
-                let i = ((y * w + x) * 3) as usize;
-                strip.put_pixel(
-                    k as u32 * w + x,
-                    y,
-                    image::Rgb([rgb[i], rgb[i + 1], rgb[i + 2]]),
-                );
-            }
-        }
-        crate::metrics::plot::label(&mut strip, (k as u32 * w + 4) as i32, (h + 4) as i32, label);
-    }
-    imageio::write_atomically(&dir.join("strip.png"), |tmp| {
-        strip
-            .save_with_format(tmp, image::ImageFormat::Png)
-            .context("writing the strip")
-    })
+    write_png(&dir.join("strip.png"), &strip(&panels)?)
 }
 
 /// `vkgi report`.
@@ -574,12 +555,8 @@ pub fn run_command(args: &ReportArgs) -> anyhow::Result<()> {
     if args.spp == 0 {
         crate::bad_input!("--spp must be at least 1");
     }
-    if args.lattice.is_empty()
-        || args.iterations.is_empty()
-        || args.incremental.is_empty()
-        || args.method.is_empty()
-    {
-        crate::bad_input!("--method, --lattice, --iterations and --incremental each need a value");
+    if args.frames == Some(0) {
+        crate::bad_input!("--frames must be at least 1");
     }
     let config = ReportConfig {
         scene: args.scene.clone(),
@@ -587,9 +564,7 @@ pub fn run_command(args: &ReportArgs) -> anyhow::Result<()> {
         size: args.size,
         spp: args.spp,
         methods: args.method.clone(),
-        lattices: args.lattice.clone(),
-        iterations: args.iterations.clone(),
-        incrementals: args.incremental.clone(),
+        grid: args.grid.values.clone(),
         frames: args.frames,
     };
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
@@ -606,11 +581,41 @@ pub fn run_command(args: &ReportArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gi::registry;
 
     #[test]
-    fn ilpv_runs_until_the_blend_settles() {
-        assert_eq!(settle_frames(0.0), 4);
-        assert_eq!(settle_frames(0.5), 8);
-        assert!(0.9f64.powi(settle_frames(0.9) as i32 - 1) < 0.01);
+    fn the_grid_is_every_combination_of_listed_and_swept_values() {
+        for entry in registry::methods() {
+            let swept: usize = entry
+                .settings
+                .iter()
+                .map(|s| s.sweep.len().max(1))
+                .product();
+            let configs = match grid(entry, &[]) {
+                Ok(c) => c,
+                Err(e) => panic!("{e}"),
+            };
+            assert_eq!(configs.len(), swept, "{}", entry.name);
+            let Some(setting) = entry.settings.first() else {
+                continue;
+            };
+            let user = vec![(setting.name.to_string(), vec![setting.default.to_string()])];
+            let configs = match grid(entry, &user) {
+                Ok(c) => c,
+                Err(e) => panic!("{e}"),
+            };
+            assert_eq!(
+                configs.len(),
+                swept / setting.sweep.len().max(1),
+                "{}: one value given",
+                entry.name
+            );
+        }
+    }
+
+    #[test]
+    fn image_names_are_safe_file_names() {
+        let name = image_name("m", &[("a b".into(), "0.5/1".into())]);
+        assert_eq!(name, "images/m-a_b0.5_1.png");
     }
 }

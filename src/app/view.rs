@@ -18,24 +18,23 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
 
-use crate::frame::{Epilogue, Eye, Frame};
-use crate::gi::Technique;
-use crate::gi::lpv::{Lpv, LpvSettings, Scheme};
+use crate::gi::GiMethod;
+use crate::gi::registry::{self, MethodEntry};
+use crate::gi::settings::{Setting, Settings};
 use crate::gpu::frames::{FrameRing, SemaphoreWait};
-use crate::gpu::profiler::FRAME_SCOPE;
-use crate::gpu::{Gpu, GpuOptions};
+use crate::gpu::{Gpu, GpuOptions, Stage};
 use crate::imageio::HdrImage;
+use crate::render::runner::FRAMES_IN_FLIGHT;
+use crate::render::{Epilogue, Eye, Frame};
 use crate::scene::Scene;
 use crate::view::cave::Cave;
 use crate::view::fly::FlyCamera;
 use crate::view::output::{Output, cave_tiles};
 use crate::view::overlay::Overlay;
 
-use super::cli::{Method, ViewArgs};
-use super::output;
+use super::cli::ViewArgs;
+use super::{method, output};
 
-/// Frames in flight (the profiler's ring and the swapchain's acquisition semaphores).
-const FRAMES_IN_FLIGHT: usize = 2;
 /// Frames the overlay's per-pass times average over.
 const OVERLAY_FRAMES: u64 = 16;
 /// Passes the overlay lists (the costliest, after the frame total).
@@ -43,14 +42,43 @@ const OVERLAY_PASSES: usize = 8;
 /// Profiler samples kept before old ones are dropped, unless the profile is being recorded.
 const MAX_LIVE_SAMPLES: usize = 20_000;
 
-/// The keys, for F1 and the README.
-pub const HELP: &[&str] = &[
+/// The viewer's own keys, for F1 (a method's setting keys follow them).
+const HELP: &[&str] = &[
     "W A S D  MOVE    Q E  DOWN/UP    DRAG  TURN    WHEEL  SPEED",
     "ARROWS  MOVE THE LIGHT    PAGE UP/DOWN  LIGHT UP/DOWN",
-    "M  METHOD (NONE, LPV, ILPV)    [ ]  LATTICE -/+    , .  ITERATIONS -/+",
-    "- =  LAMBDA -/+    I  INDIRECT ONLY    O  DIRECT ONLY",
-    "P  SCREENSHOT (PNG + EXR)    F1  HELP    ESC  QUIT",
+    "I  INDIRECT ONLY    O  DIRECT ONLY    P  SCREENSHOT (PNG + EXR)    F1  HELP    ESC  QUIT",
 ];
+
+/// The key of a character a method's settings may use (punctuation, letters, digits).
+pub fn key_of(c: char) -> Option<KeyCode> {
+    let code = match c {
+        '[' => KeyCode::BracketLeft,
+        ']' => KeyCode::BracketRight,
+        ',' => KeyCode::Comma,
+        '.' => KeyCode::Period,
+        '-' => KeyCode::Minus,
+        '=' => KeyCode::Equal,
+        ';' => KeyCode::Semicolon,
+        '\'' => KeyCode::Quote,
+        '/' => KeyCode::Slash,
+        c => return super::cli::parse_key(&c.to_string()).ok(),
+    };
+    Some(code)
+}
+
+/// The setting of `settings` that `code` steps, and in which direction (+1 or -1).
+fn setting_key(settings: &Settings, code: KeyCode) -> Option<(&'static Setting, f64)> {
+    settings.specs().iter().find_map(|s| {
+        let keys = s.keys?;
+        if key_of(keys.increase) == Some(code) {
+            Some((s, 1.0))
+        } else if key_of(keys.decrease) == Some(code) {
+            Some((s, -1.0))
+        } else {
+            None
+        }
+    })
+}
 
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let scene = Scene::load(&args.scene)?;
@@ -61,7 +89,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         crate::bad_input!("--cave-size must be in (0, 100]");
     }
     let (width, height) = args.frame.size;
-    let limit = crate::frame::MAX_IMAGE_SIDE;
+    let limit = crate::render::MAX_IMAGE_SIDE;
     if width == 0 || height == 0 || width > limit || height > limit {
         crate::bad_input!(
             "window size {width}x{height} is out of range: each side must be 1..={limit}"
@@ -203,15 +231,17 @@ enum Flow {
 struct Running {
     outputs: Vec<Output>,
     overlay: Overlay,
-    technique: Option<Box<dyn Technique>>,
+    technique: Option<Box<dyn GiMethod>>,
     frame: Frame,
     ring: FrameRing,
     gpu: Gpu,
     scene: Scene,
     fly: FlyCamera,
     cave: Option<Cave>,
-    method: Method,
-    settings: LpvSettings,
+    /// The method shown (None: direct light only).
+    method: Option<&'static MethodEntry>,
+    /// Every registered method's settings (the user's flags applied), kept across switches.
+    settings: Vec<Settings>,
     /// What the overlay says about the last settings change (e.g. a rejected lattice size).
     status: String,
     held: HashSet<KeyCode>,
@@ -266,8 +296,12 @@ impl Running {
             fly.camera.target = cave.center + cave.forward;
         }
         let frame = Frame::new(&gpu, &scene, args.frame.options())?;
-        let settings = args.gi.lpv_settings().unwrap_or_default();
-        let mut ring = FrameRing::new(&gpu, gpu.queues.graphics, FRAMES_IN_FLIGHT)?;
+        let overrides = &args.gi.settings.values;
+        let chosen = method::choose(&args.gi.method, overrides)?;
+        let settings = registry::methods()
+            .map(|m| m.settings(overrides))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut ring = FrameRing::new(&gpu, FRAMES_IN_FLIGHT)?;
         ring.profiler
             .add_note(format!("queue plan: {}", gpu.queues.describe()));
         let overlay = Overlay::new(&gpu, FRAMES_IN_FLIGHT)?;
@@ -281,7 +315,7 @@ impl Running {
             scene,
             fly,
             cave,
-            method: args.gi.method,
+            method: chosen.map(|c| c.entry),
             settings,
             status: String::new(),
             held: HashSet::new(),
@@ -301,40 +335,54 @@ impl Running {
         Ok(running)
     }
 
-    /// Make the GI technique for the current method and settings.
+    /// The index of the shown method in the registry (and in `settings`).
+    fn method_index(&self) -> Option<usize> {
+        let name = self.method?.name;
+        registry::methods().position(|m| m.name == name)
+    }
+
+    /// Make the GI method for the current method and settings.
     fn rebuild_technique(&mut self) -> anyhow::Result<()> {
         self.ring.finish()?;
         self.gpu.wait_idle()?;
-        let scheme = match self.method {
-            Method::None => {
-                self.technique = None;
-                return Ok(());
-            }
-            Method::Lpv => Scheme::Lpv,
-            Method::Ilpv => Scheme::Ilpv,
+        self.technique = None;
+        let (Some(entry), Some(index)) = (self.method, self.method_index()) else {
+            return Ok(());
         };
-        let settings = LpvSettings {
-            scheme,
-            ..self.settings.clone()
+        let chosen = method::Chosen {
+            entry,
+            settings: self.settings[index].clone(),
         };
-        self.technique = Some(Box::new(Lpv::new(&self.gpu, &self.scene, settings)?));
+        self.technique = Some(method::build(&self.gpu, &self.scene, &chosen, None)?);
         Ok(())
     }
 
-    /// Try new settings; keep the old ones (and say why) when the technique rejects them.
-    fn change_settings(&mut self, change: impl FnOnce(&mut LpvSettings)) -> anyhow::Result<()> {
-        let previous = self.settings.clone();
-        change(&mut self.settings);
+    /// Try new settings of the shown method; keep the old ones (and say why) when the method
+    /// rejects them.
+    fn change_settings(&mut self, change: impl FnOnce(&mut Settings)) -> anyhow::Result<()> {
+        let Some(index) = self.method_index() else {
+            return self.rebuild_technique();
+        };
+        let previous = self.settings[index].clone();
+        change(&mut self.settings[index]);
         match self.rebuild_technique() {
             Ok(()) => self.status.clear(),
             Err(e) if super::is_input_error(&e) => {
                 self.status = format!("{e:#}").to_uppercase();
-                self.settings = previous;
+                self.settings[index] = previous;
                 self.rebuild_technique()?;
             }
             Err(e) => return Err(e),
         }
         Ok(())
+    }
+
+    /// The next method of the cycle: none, then every registered method in order.
+    fn next_method(&self) -> Option<&'static MethodEntry> {
+        match self.method_index() {
+            None => registry::methods().next(),
+            Some(i) => registry::methods().nth(i + 1),
+        }
     }
 
     /// Size the views to the windows and place them: the whole window, or the CAVE's walls.
@@ -416,23 +464,9 @@ impl Running {
                 self.status = format!("SAVED {}", prefix.display()).to_uppercase();
             }
             KeyCode::KeyM => {
-                self.method = match self.method {
-                    Method::None => Method::Lpv,
-                    Method::Lpv => Method::Ilpv,
-                    Method::Ilpv => Method::None,
-                };
+                self.method = self.next_method();
                 self.change_settings(|_| {})?;
             }
-            KeyCode::BracketLeft => self.change_settings(|s| s.lattice = s.lattice.max(3) - 2)?,
-            KeyCode::BracketRight => self.change_settings(|s| s.lattice += 2)?,
-            KeyCode::Comma => self.change_settings(|s| s.iterations = s.iterations.max(2) - 1)?,
-            KeyCode::Period => self.change_settings(|s| s.iterations += 1)?,
-            KeyCode::Minus => self.change_settings(|s| {
-                s.incremental = ((s.incremental - 0.05) * 100.0).round().max(0.0) / 100.0
-            })?,
-            KeyCode::Equal => self.change_settings(|s| {
-                s.incremental = ((s.incremental + 0.05) * 100.0).round().min(99.0) / 100.0
-            })?,
             KeyCode::KeyI => {
                 self.frame.options.indirect_only = !self.frame.options.indirect_only;
                 self.direct_only = false;
@@ -441,7 +475,19 @@ impl Running {
                 self.direct_only = !self.direct_only;
                 self.frame.options.indirect_only = false;
             }
-            _ => {}
+            code => {
+                let keyed = self
+                    .method_index()
+                    .and_then(|i| setting_key(&self.settings[i], code));
+                if let Some((setting, direction)) = keyed {
+                    self.change_settings(|s| {
+                        if let Some(value) = s.get(setting.name) {
+                            let stepped = setting.stepped(value, direction);
+                            s.set_value(setting.name, stepped);
+                        }
+                    })?;
+                }
+            }
         }
         Ok(Flow::Continue)
     }
@@ -563,7 +609,7 @@ impl Running {
             record: &record,
         };
         let gi = match (&mut self.technique, self.direct_only) {
-            (Some(t), false) => Some(t.as_mut() as &mut dyn Technique),
+            (Some(t), false) => Some(t.as_mut() as &mut dyn GiMethod),
             _ => None,
         };
         self.frame
@@ -580,14 +626,11 @@ impl Running {
 
     /// The overlay: method and settings, frame rate, per-pass GPU milliseconds, help.
     fn overlay_lines(&mut self) -> Vec<String> {
-        let s = &self.settings;
-        let method = match self.method {
-            Method::None => "DIRECT LIGHT ONLY (NO GI)".to_string(),
-            Method::Lpv | Method::Ilpv => format!(
-                "{:?}  LATTICE {}  ITERATIONS {}  LAMBDA {:.2}",
-                self.method, s.lattice, s.iterations, s.incremental
-            )
-            .to_uppercase(),
+        let method = match (self.method, self.method_index()) {
+            (Some(entry), Some(i)) => {
+                format!("{}  {}", entry.name, self.settings[i].keyed_summary()).to_uppercase()
+            }
+            _ => "DIRECT LIGHT ONLY (NO GI)".to_string(),
         };
         let mode = if self.direct_only {
             "  DIRECT ONLY"
@@ -609,6 +652,9 @@ impl Running {
                 self.frame.options.height
             ),
         ];
+        if let Some(c) = self.technique.as_ref().and_then(|t| t.convergence()) {
+            lines.push(format!("{} {:.1E}", c.measure, c.remaining).to_uppercase());
+        }
         let passes = self.recent_pass_ms();
         lines.extend(
             passes
@@ -619,7 +665,7 @@ impl Running {
             lines.push(self.status.clone());
         }
         if self.help {
-            lines.extend(HELP.iter().map(|l| l.to_string()));
+            lines.extend(help_lines(self.method_index().map(|i| &self.settings[i])));
         } else {
             lines.push("F1  KEYS".into());
         }
@@ -641,23 +687,21 @@ impl Running {
             .collect::<HashSet<_>>()
             .len()
             .max(1) as f64;
-        let mut totals: Vec<(String, f64)> = Vec::new();
+        // A pass's runs in a frame (its parts, steps, layers and views) sum into one group.
+        let mut totals: Vec<(&'static str, bool, f64)> = Vec::new();
         for sample in samples.iter().filter(|s| s.frame >= first) {
-            let group = pass_group(&sample.name);
-            match totals.iter_mut().find(|(name, _)| *name == group) {
-                Some(entry) => entry.1 += sample.duration_ns,
-                None => totals.push((group, sample.duration_ns)),
+            let (pass, is_frame) = (sample.tag.pass, sample.tag.stage == Stage::Frame);
+            match totals.iter_mut().find(|(name, _, _)| *name == pass) {
+                Some(entry) => entry.2 += sample.duration_ns,
+                None => totals.push((pass, is_frame, sample.duration_ns)),
             }
         }
-        for entry in &mut totals {
-            entry.1 /= frames * 1e6;
-        }
         // The frame first, then the costliest passes.
-        totals.sort_by(|a, b| {
-            (a.0 != FRAME_SCOPE)
-                .cmp(&(b.0 != FRAME_SCOPE))
-                .then(b.1.total_cmp(&a.1))
-        });
+        totals.sort_by(|a, b| (!a.1).cmp(&!b.1).then(b.2.total_cmp(&a.2)));
+        let mut totals: Vec<(String, f64)> = totals
+            .into_iter()
+            .map(|(name, _, ns)| (name.to_string(), ns / (frames * 1e6)))
+            .collect();
         totals.truncate(OVERLAY_PASSES + 1);
         if samples.len() > MAX_LIVE_SAMPLES && !self.recording_profile {
             profiler.clear();
@@ -713,22 +757,31 @@ impl Running {
     }
 }
 
-/// A pass's name without its colour channel, step or view number ("propagate R step 3" ->
-/// "propagate"), so the overlay sums a pass's runs in a frame.
-fn pass_group(name: &str) -> String {
-    let mut words = Vec::new();
-    let mut skip_number = false;
-    for word in name.split_whitespace() {
-        let number = word.chars().all(|c| c.is_ascii_digit());
-        if matches!(word, "R" | "G" | "B") || (skip_number && number) {
-            continue;
-        }
-        skip_number = matches!(word, "step" | "view");
-        if !skip_number {
-            words.push(word);
-        }
+/// The help: the viewer's keys, the method cycle, and the shown method's setting keys.
+fn help_lines(settings: Option<&Settings>) -> Vec<String> {
+    let mut lines: Vec<String> = HELP.iter().map(|l| l.to_string()).collect();
+    lines.push(format!(
+        "M  METHOD ({})",
+        registry::method_names().join(", ").to_uppercase()
+    ));
+    let keys: Vec<String> = settings
+        .map(|s| s.specs())
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|s| {
+            let k = s.keys?;
+            Some(format!(
+                "{} {}  {} -/+",
+                k.decrease,
+                k.increase,
+                s.name.to_uppercase()
+            ))
+        })
+        .collect();
+    if !keys.is_empty() {
+        lines.push(keys.join("    "));
     }
-    words.join(" ")
+    lines
 }
 
 /// A unit horizontal direction close to `v` (the CAVE stands upright).
@@ -740,11 +793,26 @@ fn horizontal(v: Vec3) -> Vec3 {
 mod tests {
     use super::*;
 
+    /// Keys the viewer uses itself (a method's setting keys must be others).
+    const RESERVED_KEYS: &[char] = &['w', 'a', 's', 'd', 'q', 'e', 'm', 'i', 'o', 'p'];
+
     #[test]
-    fn pass_groups_drop_channels_steps_and_views() {
-        assert_eq!(pass_group("propagate R step 3"), "propagate");
-        assert_eq!(pass_group("rsm view 0"), "rsm");
-        assert_eq!(pass_group("g-buffer"), "g-buffer");
-        assert_eq!(pass_group("compensate B step 12"), "compensate");
+    fn method_keys_are_free_and_map_to_keys() {
+        for method in registry::methods() {
+            let mut seen = Vec::new();
+            for setting in method.settings {
+                let Some(keys) = setting.keys else { continue };
+                for c in [keys.decrease, keys.increase] {
+                    assert!(
+                        !RESERVED_KEYS.contains(&c),
+                        "{}: '{c}' is the viewer's",
+                        method.name
+                    );
+                    assert!(key_of(c).is_some(), "{}: '{c}' has no key", method.name);
+                    assert!(!seen.contains(&c), "{}: '{c}' used twice", method.name);
+                    seen.push(c);
+                }
+            }
+        }
     }
 }

@@ -1,23 +1,158 @@
-//! Global-illumination techniques, one module each: persistent GPU state plus per-frame passes.
-//! The frame (src/frame.rs) calls a technique at three points: after the G-buffer (graphics
-//! queue), once per colour channel (each may run on its own compute queue), and after direct
-//! lighting to add indirect light to the HDR image.
+//! Global-illumination methods as plug-ins: the trait every method implements, the frame
+//! context it gets, and the registration of every method (one line each, at the bottom).
+//!
+//! A frame (src/render/frame.rs) calls a method at fixed points, in this order:
+//! 1. [`GiMethod::record_view`] once per view, after every view's G-buffer (e.g. placing cache
+//!    records where a view needs them);
+//! 2. [`GiMethod::record_light`] once per frame for all views (e.g. RSM, injection);
+//! 3. [`GiMethod::record_part`] for each of its independent [`GiMethod::parts`], each of which
+//!    may run on its own async compute queue;
+//! 4. [`GiMethod::light_done`] on the CPU, once every part is recorded;
+//! 5. [`GiMethod::record_lookup`] once per view, after the view's direct light, to add indirect
+//!    light to the view's HDR image.
+//!
+//! Methods see the frame only through [`FrameContext`] (scene buffers, shadow maps, views), so
+//! this module sits below the frame and never imports it.
 
-pub mod lpv;
+pub mod registry;
+pub mod settings;
+pub mod shared;
 
-use crate::frame::{Frame, View};
-use crate::gpu::{GpuResult, Recorder};
+use serde::Serialize;
 
-pub trait Technique {
-    /// Passes on the graphics queue after shadows and the G-buffer (e.g. RSM, injection).
-    fn record_light(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()>;
-    /// This frame's work for one colour channel (0 = R, 1 = G, 2 = B).
-    fn record_channel(&mut self, rec: &mut Recorder, channel: usize) -> GpuResult<()>;
-    /// Every channel of this frame is recorded: its light is the one lookups read from now.
-    fn light_recorded(&mut self);
-    /// Add indirect radiance to a view's HDR image (after its direct lighting and after
-    /// [`Technique::light_recorded`]); called once per view.
-    fn record_lookup(&self, rec: &mut Recorder, view: &View) -> GpuResult<()>;
-    /// Lines for the profile: how the technique ran (lattice, tiles...).
+use crate::gpu::{GpuResult, Image, Recorder, Sampler};
+use crate::render::targets::View;
+use crate::scene::Light;
+use crate::scene::gpu::SceneBuffers;
+
+/// What changed since the method's previous frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Changes {
+    /// Lights moved, were aimed, recoloured or dimmed.
+    pub lights: bool,
+    /// A view's eye moved.
+    pub camera: bool,
+    /// Views were created anew (a resize, another CAVE): per-view state must be rebuilt.
+    pub views: bool,
+}
+
+impl Changes {
+    pub fn any(&self) -> bool {
+        self.lights || self.camera || self.views
+    }
+}
+
+/// What a method may read of the frame it records into.
+pub struct FrameContext<'a> {
+    pub scene: &'a SceneBuffers,
+    /// Depth of every shadow view, one layer each (see `SceneBuffers::shadow_views`).
+    pub shadow_map: &'a Image,
+    pub shadow_sampler: &'a Sampler,
+    pub views: &'a [View],
+    /// The lights as they are this frame (as in `scene.lights`, on the CPU).
+    pub lights: &'a [Light],
+    /// Frames this frame object recorded before this one.
+    pub frame: u64,
+    /// What changed since the previous frame (everything, on the first frame).
+    pub changes: Changes,
+    /// The HDR images carry indirect light alone (no direct light, no emission).
+    pub indirect_only: bool,
+}
+
+/// How far a progressive or incremental method has come.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Convergence {
+    /// What `remaining` measures, e.g. "unshot power" or "blend weight of old light".
+    pub measure: &'static str,
+    /// The fraction still to go: 1 just after a change, 0 converged.
+    pub remaining: f64,
+}
+
+/// A method's core pass, the one `vkgi profile` measures per unit of work against the device's
+/// bandwidth and arithmetic bounds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CorePass {
+    /// The pass's name in the profile (its `ScopeTag::pass`).
+    pub pass: &'static str,
+    /// What one unit of work is (e.g. "cell").
+    pub unit: &'static str,
+    /// Units one run of the pass processes.
+    pub units: usize,
+    /// Bytes moved and flops done per unit, for the roofline bound.
+    pub bytes_per_unit: f64,
+    pub flops_per_unit: f64,
+}
+
+/// A GI method: persistent GPU state plus the passes it adds to a frame.
+pub trait GiMethod {
+    /// The name it is registered under (tags its passes in the profile).
+    fn name(&self) -> &'static str;
+
+    /// Work for view `view` (an index into `ctx.views`) after every view's G-buffer and before
+    /// the light work.
+    fn record_view(
+        &mut self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        view: usize,
+    ) -> GpuResult<()> {
+        let _ = (rec, ctx, view);
+        Ok(())
+    }
+
+    /// Work once per frame for all views, on the graphics queue.
+    fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()>;
+
+    /// Labels of the independent parts recorded by [`GiMethod::record_part`] (none by
+    /// default). Parts may run concurrently, each on its own compute queue, after the light
+    /// work and before any lookup; they must not touch each other's resources.
+    fn parts(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Part `part` of this frame's light work.
+    fn record_part(
+        &mut self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        part: usize,
+    ) -> GpuResult<()> {
+        let _ = (rec, ctx, part);
+        Ok(())
+    }
+
+    /// Every part of this frame is recorded: from now on lookups read this frame's light.
+    fn light_done(&mut self, ctx: &FrameContext) {
+        let _ = ctx;
+    }
+
+    /// Add indirect radiance to view `view`'s HDR image (after its direct lighting).
+    fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()>;
+
+    /// Progress of a method that refines across frames (None: each frame is complete).
+    fn convergence(&self) -> Option<Convergence> {
+        None
+    }
+
+    /// The pass `vkgi profile` measures against the device's bounds, if the method has one.
+    fn core_pass(&self) -> Option<CorePass> {
+        None
+    }
+
+    /// Lines for the profile: how the method runs (lattice, kernels, cache sizes...).
     fn describe(&self) -> Vec<String>;
+}
+
+/// Declares each method's module and registers its entries: one line per method.
+macro_rules! methods {
+    ($($method:ident,)*) => {
+        $(pub mod $method;)*
+        /// Every registered method's entries, in registration order.
+        pub(crate) const REGISTERED: &[&[registry::MethodEntry]] = &[$($method::METHODS),*];
+    };
+}
+
+methods! {
+    ambient,
+    lpv,
 }

@@ -74,25 +74,40 @@ impl Queue {
     }
 }
 
-/// Which queues do what: one graphics queue, and one compute queue per colour channel (R, G, B).
-/// Where the device has fewer queues, channels share them; on lavapipe all four are one queue.
+/// Most async compute queues the plan takes (a method's independent parts share them
+/// round-robin when it has more parts than queues).
+pub const MAX_ASYNC_COMPUTE_QUEUES: u32 = 8;
+
+/// Which queues do what: one graphics queue, and up to [`MAX_ASYNC_COMPUTE_QUEUES`] distinct
+/// compute queues that independent work (a GI method's parts) may run on concurrently. Where the
+/// device offers no queue beside the graphics queue (lavapipe), there are none and that work
+/// goes to the graphics queue.
 #[derive(Clone, Debug)]
 pub struct QueuePlan {
     pub graphics: Queue,
-    pub channel_compute: [Queue; 3],
+    pub async_compute: Vec<Queue>,
 }
 
 impl QueuePlan {
-    /// True when the three channels have three distinct queues to run concurrently on.
-    pub fn has_async_channels(&self) -> bool {
-        let [r, g, b] = &self.channel_compute;
-        !r.same_queue(g) && !g.same_queue(b) && !r.same_queue(b)
+    /// The queue for independent part `part` (round-robin over the async compute queues, or
+    /// the graphics queue when there are none).
+    pub fn part_queue(&self, part: usize) -> Queue {
+        if self.async_compute.is_empty() {
+            self.graphics
+        } else {
+            self.async_compute[part % self.async_compute.len()]
+        }
+    }
+
+    /// True when at least two parts can run at the same time (two distinct compute queues).
+    pub fn runs_parts_concurrently(&self) -> bool {
+        self.async_compute.len() >= 2
     }
 
     /// All distinct queue families in the plan (resources shared across them use CONCURRENT).
     pub fn families(&self) -> Vec<u32> {
         let mut families = vec![self.graphics.family];
-        for q in &self.channel_compute {
+        for q in &self.async_compute {
             if !families.contains(&q.family) {
                 families.push(q.family);
             }
@@ -102,31 +117,21 @@ impl QueuePlan {
 
     pub fn describe(&self) -> String {
         let q = |q: &Queue| format!("family {} queue {}", q.family, q.index);
-        if self.has_async_channels() {
-            format!(
-                "graphics on {}; compute R/G/B on {}, {}, {} (async, 3 queues)",
-                q(&self.graphics),
-                q(&self.channel_compute[0]),
-                q(&self.channel_compute[1]),
-                q(&self.channel_compute[2])
-            )
-        } else if self
-            .channel_compute
-            .iter()
-            .all(|c| c.same_queue(&self.graphics))
-        {
-            format!(
-                "graphics and compute R/G/B share {} (the device offers one queue), channels run in sequence",
+        match self.async_compute.len() {
+            0 => format!(
+                "graphics and compute share {} (the device offers one queue): parts run in sequence",
                 q(&self.graphics)
-            )
-        } else {
-            format!(
-                "graphics on {}; compute R/G/B on {}, {}, {} (fewer than 3 compute queues: shared where equal)",
+            ),
+            n => format!(
+                "graphics on {}; {n} async compute queue{} ({})",
                 q(&self.graphics),
-                q(&self.channel_compute[0]),
-                q(&self.channel_compute[1]),
-                q(&self.channel_compute[2])
-            )
+                if n == 1 { "" } else { "s" },
+                self.async_compute
+                    .iter()
+                    .map(q)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         }
     }
 }
@@ -579,6 +584,7 @@ fn choose_physical_device(
     best.ok_or_else(|| GpuError::Setup("no Vulkan device".into()))
 }
 
+/// The graphics family, and the (family, index) of each async compute queue.
 fn plan_queues(families: &[vk::QueueFamilyProperties]) -> GpuResult<(u32, Vec<(u32, u32)>)> {
     let graphics = families
         .iter()
@@ -589,28 +595,25 @@ fn plan_queues(families: &[vk::QueueFamilyProperties]) -> GpuResult<(u32, Vec<(u
         .ok_or_else(|| GpuError::Setup("the device has no graphics+compute queue family".into()))?
         as u32;
     // Prefer a dedicated compute family (true async compute); else spare queues of the graphics
-    // family; else share the graphics queue.
+    // family; else none (everything on the graphics queue).
     let dedicated = families.iter().enumerate().find(|(_, f)| {
         f.queue_flags.contains(vk::QueueFlags::COMPUTE)
             && !f.queue_flags.contains(vk::QueueFlags::GRAPHICS)
             && f.queue_count > 0
     });
-    let channel_queues: Vec<(u32, u32)> = if let Some((family, props)) = dedicated {
-        (0..3)
-            .map(|c| (family as u32, c % props.queue_count.min(3)))
-            .collect()
-    } else {
-        let spare = families[graphics as usize]
-            .queue_count
-            .saturating_sub(1)
-            .min(3);
-        if spare == 0 {
-            vec![(graphics, 0); 3]
-        } else {
-            (0..3).map(|c| (graphics, 1 + c % spare)).collect()
+    let compute: Vec<(u32, u32)> = match dedicated {
+        Some((family, props)) => (0..props.queue_count.min(MAX_ASYNC_COMPUTE_QUEUES))
+            .map(|i| (family as u32, i))
+            .collect(),
+        None => {
+            let spare = families[graphics as usize]
+                .queue_count
+                .saturating_sub(1)
+                .min(MAX_ASYNC_COMPUTE_QUEUES);
+            (1..=spare).map(|i| (graphics, i)).collect()
         }
     };
-    Ok((graphics, channel_queues))
+    Ok((graphics, compute))
 }
 
 fn create_device(
@@ -620,7 +623,7 @@ fn create_device(
 ) -> GpuResult<(ash::Device, QueuePlan, DeviceInfo)> {
     // SAFETY: queries on a physical device enumerated from this instance.
     let families = unsafe { instance.get_physical_device_queue_family_properties(physical) };
-    let (graphics_family, channel_queues) = plan_queues(&families)?;
+    let (graphics_family, compute_queues) = plan_queues(&families)?;
 
     // SAFETY: as above.
     let extensions = unsafe { instance.enumerate_device_extension_properties(physical) }
@@ -671,13 +674,13 @@ fn create_device(
     }
 
     let mut queue_counts: Vec<(u32, u32)> = vec![(graphics_family, 1)];
-    for &(family, index) in &channel_queues {
+    for &(family, index) in &compute_queues {
         match queue_counts.iter_mut().find(|(f, _)| *f == family) {
             Some(entry) => entry.1 = entry.1.max(index + 1),
             None => queue_counts.push((family, index + 1)),
         }
     }
-    let priorities = [1.0f32; 4];
+    let priorities = [1.0f32; 1 + MAX_ASYNC_COMPUTE_QUEUES as usize];
     let queue_infos: Vec<vk::DeviceQueueCreateInfo> = queue_counts
         .iter()
         .map(|&(family, count)| {
@@ -727,7 +730,10 @@ fn create_device(
     };
     let plan = QueuePlan {
         graphics: queue(graphics_family, 0),
-        channel_compute: [0, 1, 2].map(|c| queue(channel_queues[c].0, channel_queues[c].1)),
+        async_compute: compute_queues
+            .iter()
+            .map(|&(family, index)| queue(family, index))
+            .collect(),
     };
 
     let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
@@ -791,31 +797,32 @@ mod tests {
     );
 
     #[test]
-    fn one_queue_is_shared_by_everything() {
+    fn one_queue_leaves_no_async_compute_queue() {
         let (g, c) = plan(&[family(GCT, 1)]);
         assert_eq!(g, 0);
-        assert_eq!(c, vec![(0, 0); 3]);
+        assert!(c.is_empty());
     }
 
     #[test]
-    fn dedicated_compute_family_gets_one_queue_per_channel() {
+    fn a_dedicated_compute_family_gives_its_queues_up_to_the_cap() {
         let (g, c) = plan(&[
             family(GCT, 16),
             family(vk::QueueFlags::TRANSFER, 2),
-            family(CT, 8),
+            family(CT, 16),
         ]);
         assert_eq!(g, 0);
-        assert_eq!(c, vec![(2, 0), (2, 1), (2, 2)]);
+        let expected: Vec<(u32, u32)> = (0..MAX_ASYNC_COMPUTE_QUEUES).map(|i| (2, i)).collect();
+        assert_eq!(c, expected);
     }
 
     #[test]
-    fn two_compute_queues_are_shared_round_robin() {
+    fn two_compute_queues_serve_three_parts_round_robin() {
         let (_, c) = plan(&[family(GCT, 1), family(CT, 2)]);
-        assert_eq!(c, vec![(1, 0), (1, 1), (1, 0)]);
+        assert_eq!(c, vec![(1, 0), (1, 1)]);
     }
 
     #[test]
-    fn spare_graphics_queues_serve_channels_without_a_compute_family() {
+    fn spare_graphics_queues_serve_as_compute_queues_without_a_compute_family() {
         let (_, c) = plan(&[family(GCT, 4)]);
         assert_eq!(c, vec![(0, 1), (0, 2), (0, 3)]);
     }

@@ -8,6 +8,7 @@ use ash::vk;
 use super::context::{DeviceShared, Gpu, Queue};
 use super::pass::Recorder;
 use super::profiler::{FRAME_SCOPE, Profiler};
+use super::scope::{ScopeTag, Stage};
 use super::{GpuError, GpuResult, vk_err};
 
 /// Command buffers of one queue family, reused frame after frame.
@@ -52,9 +53,9 @@ pub struct FrameBuilder<'r> {
 }
 
 impl FrameRing {
-    pub fn new(gpu: &Gpu, queue: Queue, frames_in_flight: usize) -> GpuResult<FrameRing> {
+    pub fn new(gpu: &Gpu, frames_in_flight: usize) -> GpuResult<FrameRing> {
         let frames_in_flight = frames_in_flight.max(1);
-        let profiler = Profiler::new(gpu, frames_in_flight, &queue)?;
+        let profiler = Profiler::new(gpu, frames_in_flight)?;
         let mut ring = FrameRing {
             shared: gpu.shared.clone(),
             slots: Vec::new(),
@@ -254,9 +255,14 @@ impl FrameBuilder<'_> {
         } else {
             self.ring.profiler.frame_queries(slot)
         };
-        let mut recorder = Recorder::new(gpu, cmd, timer);
+        let mut recorder = Recorder::new(gpu, cmd, queue.family, timer);
         if self.first_part {
+            let previous = recorder.set_context(ScopeTag {
+                stage: Stage::Frame,
+                ..ScopeTag::default()
+            });
             self.frame_scope = recorder.begin_scope(FRAME_SCOPE);
+            recorder.set_context(previous);
             self.first_part = false;
         }
         let recorded = record(&mut recorder);
@@ -413,7 +419,7 @@ impl Gpu {
                     // SAFETY: a freshly allocated command buffer.
                     unsafe { device.begin_command_buffer(cmd, &begin) }
                         .map_err(vk_err("beginning a one-shot command buffer"))?;
-                    let mut recorder = Recorder::new(self, cmd, None);
+                    let mut recorder = Recorder::new(self, cmd, self.queues.graphics.family, None);
                     let recorded = record(&mut recorder);
                     // SAFETY: ends the recording begun above.
                     let ended = unsafe { device.end_command_buffer(cmd) };

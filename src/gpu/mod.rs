@@ -7,6 +7,8 @@
 //! * [`pass`]: the one place a pass is recorded (debug label, timestamp scope, barriers).
 //! * [`profiler`]: timestamp queries in a ring of frames in flight.
 //! * [`frames`]: the ring of command buffers and fences the frame loop records into.
+//! * [`scope`] and [`push`]: typed tags of timed passes; push constants with checked layouts.
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod context;
 pub mod frames;
@@ -14,7 +16,9 @@ pub mod memory;
 pub mod pass;
 pub mod pipeline;
 pub mod profiler;
+pub mod push;
 pub mod reflect;
+pub mod scope;
 pub mod swapchain;
 
 pub use context::{Gpu, GpuOptions, Queue, QueuePlan};
@@ -22,6 +26,8 @@ pub use memory::{Buffer, BufferDesc, Image, ImageDesc, Sampler};
 pub use pass::{Binding, ComputePass, RasterPass, Recorder};
 pub use pipeline::{ComputePipeline, RasterPipeline, RasterPipelineDesc, Specialization};
 pub use profiler::{PassTiming, ProfileReport, Profiler};
+pub use push::PushConstants;
+pub use scope::{Part, ScopeTag, Stage};
 
 use ash::vk;
 

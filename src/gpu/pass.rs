@@ -1,7 +1,8 @@
 //! The one place a pass is recorded. A pass is declared in one expression (name, pipeline,
-//! bindings with read/write intent, push constants, size); the recorder checks the bindings
-//! against the shader's interface, places the barriers the declared accesses need, and wraps the
-//! work in a debug label and a timestamp scope, so no pass can forget any of them.
+//! bindings with read/write intent, push constants, size); the recorder checks the bindings and
+//! push constants against the shader's interface, places the barriers the declared accesses
+//! need, and wraps the work in a debug label and a timestamp scope tagged with the recorder's
+//! context (method, stage, part, step), so no pass can forget any of them.
 
 use ash::vk;
 
@@ -9,7 +10,9 @@ use super::context::Gpu;
 use super::memory::{Buffer, Image, SyncState};
 use super::pipeline::{ComputePipeline, PipelineCore, RasterPipeline};
 use super::profiler::FrameQueries;
+use super::push::{self, PushConstants};
 use super::reflect::DescriptorKind;
+use super::scope::{Part, ScopeTag};
 use super::{GpuError, GpuResult};
 
 /// How a pass touches a resource; decides the pipeline stage, access mask and image layout.
@@ -208,6 +211,16 @@ impl<'r> Binding<'r> {
         }
     }
 
+    /// For storage bindings, whether the pass declares that it writes them.
+    fn declared_write(&self) -> Option<bool> {
+        match self {
+            Binding::StorageBuffer { write, .. } | Binding::StorageImage { write, .. } => {
+                Some(*write)
+            }
+            Binding::UniformBuffer { .. } | Binding::SampledImage { .. } => None,
+        }
+    }
+
     fn kind(&self) -> DescriptorKind {
         match self {
             Binding::StorageBuffer { .. } => DescriptorKind::StorageBuffer,
@@ -220,20 +233,22 @@ impl<'r> Binding<'r> {
 
 /// A compute dispatch, declared in one expression.
 pub struct ComputePass<'p> {
-    pub name: &'p str,
+    /// The pass, without part, step or layer (the recorder's context adds those).
+    pub name: &'static str,
     pub pipeline: &'p ComputePipeline,
     pub bindings: &'p [Binding<'p>],
-    pub push: &'p [u8],
+    pub push: &'p dyn PushConstants,
     /// Threads to run along x, y, z; the workgroup count is rounded up from these.
     pub threads: [u32; 3],
 }
 
 /// A draw of `vertex_count` pulled vertices into colour and depth attachments, cleared first.
 pub struct RasterPass<'p> {
-    pub name: &'p str,
+    /// The pass, without part, step or layer (the recorder's context adds those).
+    pub name: &'static str,
     pub pipeline: &'p RasterPipeline,
     pub bindings: &'p [Binding<'p>],
-    pub push: &'p [u8],
+    pub push: &'p dyn PushConstants,
     /// Colour attachments, the layer rendered into, and their clear colours.
     pub color: &'p [(&'p Image, u32, [f32; 4])],
     /// Depth attachment and the layer rendered into.
@@ -255,16 +270,72 @@ enum Resource<'r> {
     Image(&'r Image),
 }
 
-/// Records passes into one command buffer.
+/// Records passes into one command buffer of one queue family, tagging each with its context.
 pub struct Recorder<'a> {
     gpu: &'a Gpu,
     cmd: vk::CommandBuffer,
+    family: u32,
     timer: Option<&'a mut FrameQueries>,
+    context: ScopeTag,
 }
 
 impl<'a> Recorder<'a> {
-    pub fn new(gpu: &'a Gpu, cmd: vk::CommandBuffer, timer: Option<&'a mut FrameQueries>) -> Self {
-        Recorder { gpu, cmd, timer }
+    pub fn new(
+        gpu: &'a Gpu,
+        cmd: vk::CommandBuffer,
+        family: u32,
+        timer: Option<&'a mut FrameQueries>,
+    ) -> Self {
+        Recorder {
+            gpu,
+            cmd,
+            family,
+            timer,
+            context: ScopeTag::default(),
+        }
+    }
+
+    /// The tag the next pass gets (its `pass` field is replaced by the pass's name).
+    pub fn context(&self) -> ScopeTag {
+        self.context
+    }
+
+    /// Set the tag context for the passes recorded from now on; returns the previous one.
+    pub fn set_context(&mut self, context: ScopeTag) -> ScopeTag {
+        std::mem::replace(&mut self.context, context)
+    }
+
+    /// Record `f`'s passes as step `step` (from 1) of a repeated pass.
+    pub fn in_step<R>(&mut self, step: u32, f: impl FnOnce(&mut Self) -> R) -> R {
+        let saved = self.set_context(ScopeTag {
+            step: Some(step),
+            ..self.context
+        });
+        let result = f(self);
+        self.context = saved;
+        result
+    }
+
+    /// Record `f`'s passes as part `part` of a method's independent parts.
+    pub fn in_part<R>(&mut self, part: Part, f: impl FnOnce(&mut Self) -> R) -> R {
+        let saved = self.set_context(ScopeTag {
+            part: Some(part),
+            ..self.context
+        });
+        let result = f(self);
+        self.context = saved;
+        result
+    }
+
+    /// Record `f`'s passes as rendering layer `layer` of a layered target.
+    pub fn in_layer<R>(&mut self, layer: u32, f: impl FnOnce(&mut Self) -> R) -> R {
+        let saved = self.set_context(ScopeTag {
+            layer: Some(layer),
+            ..self.context
+        });
+        let result = f(self);
+        self.context = saved;
+        result
     }
 
     pub fn command_buffer(&self) -> vk::CommandBuffer {
@@ -275,18 +346,28 @@ impl<'a> Recorder<'a> {
         self.gpu
     }
 
-    pub(crate) fn begin_scope(&mut self, name: &str) -> Option<u32> {
+    /// The tag of pass `pass` in the current context.
+    fn tag(&self, pass: &'static str) -> ScopeTag {
+        ScopeTag {
+            pass,
+            ..self.context
+        }
+    }
+
+    pub(crate) fn begin_scope(&mut self, pass: &'static str) -> Option<u32> {
+        let tag = self.tag(pass);
         if let Some(utils) = &self.gpu.shared.debug_utils
-            && let Ok(label_name) = std::ffi::CString::new(name)
+            && let Ok(label_name) = std::ffi::CString::new(tag.name())
         {
             let label = vk::DebugUtilsLabelEXT::default().label_name(&label_name);
             // SAFETY: recording into a command buffer in the recording state.
             unsafe { utils.cmd_begin_debug_utils_label(self.cmd, &label) };
         }
         let device = &self.gpu.shared.device;
+        let family = self.family;
         self.timer
             .as_mut()
-            .and_then(|t| t.begin(device, self.cmd, name))
+            .and_then(|t| t.begin(device, self.cmd, family, tag))
     }
 
     pub(crate) fn end_scope(&mut self, scope: Option<u32>) {
@@ -381,16 +462,18 @@ impl<'a> Recorder<'a> {
     }
 
     fn check_interface(
+        &self,
         core: &PipelineCore,
-        pass: &str,
+        pass: &'static str,
         bindings: &[Binding],
-        push: &[u8],
+        push: &dyn PushConstants,
     ) -> GpuResult<()> {
         let fail = |message: String| GpuError::Interface {
-            pass: pass.to_string(),
+            pass: self.tag(pass).name(),
             message,
         };
-        for &(number, kind) in &core.interface.bindings {
+        let interface = &core.interface;
+        for &(number, kind) in &interface.bindings {
             match bindings.iter().find(|b| b.number() == number) {
                 None => {
                     return Err(fail(format!(
@@ -410,7 +493,7 @@ impl<'a> Recorder<'a> {
         }
         for b in bindings {
             let number = b.number();
-            if !core.interface.bindings.iter().any(|(n, _)| *n == number) {
+            if !interface.bindings.iter().any(|(n, _)| *n == number) {
                 return Err(fail(format!(
                     "the pass binds a {} at binding {number}, which the shader does not use",
                     b.kind().name()
@@ -419,15 +502,28 @@ impl<'a> Recorder<'a> {
             if bindings.iter().filter(|o| o.number() == number).count() > 1 {
                 return Err(fail(format!("binding {number} is bound twice")));
             }
+            if let Some(declared_write) = b.declared_write() {
+                let writable = interface.writable.contains(&number);
+                if writable && !declared_write {
+                    return Err(fail(format!(
+                        "binding {number} is declared read, but the shader may write it (declare it written, or mark it readonly in the shader)"
+                    )));
+                }
+                if !writable && declared_write {
+                    return Err(fail(format!(
+                        "binding {number} is declared written, but the shader declares it readonly"
+                    )));
+                }
+            }
         }
-        if push.len() as u32 != core.interface.push_constant_size {
-            return Err(fail(format!(
-                "push constants are {} bytes in Rust but {} bytes in the shader",
-                push.len(),
-                core.interface.push_constant_size
-            )));
+        match push::mismatch(
+            push,
+            interface.push_constant_size,
+            &interface.push_constant_members,
+        ) {
+            Some(message) => Err(fail(message)),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     fn binding_accesses<'r>(
@@ -538,7 +634,7 @@ impl<'a> Recorder<'a> {
     /// Record a compute pass.
     pub fn compute(&mut self, pass: &ComputePass) -> GpuResult<()> {
         let core = &pass.pipeline.core;
-        Self::check_interface(core, pass.name, pass.bindings, pass.push)?;
+        self.check_interface(core, pass.name, pass.bindings, pass.push)?;
         let local = pass.pipeline.local_size;
         let groups = [0, 1, 2].map(|i| pass.threads[i].div_ceil(local[i]));
         if groups.contains(&0) {
@@ -546,7 +642,7 @@ impl<'a> Recorder<'a> {
         }
         let scope = self.begin_scope(pass.name);
         self.sync(&Self::binding_accesses(pass.bindings, false));
-        self.bind(core, pass.bindings, pass.push);
+        self.bind(core, pass.bindings, pass.push.bytes());
         // SAFETY: pipeline and descriptors are bound above; the group counts are non-zero.
         unsafe {
             self.gpu
@@ -561,7 +657,7 @@ impl<'a> Recorder<'a> {
     /// Record a raster pass: clear the attachments, draw, end.
     pub fn raster(&mut self, pass: &RasterPass) -> GpuResult<()> {
         let core = &pass.pipeline.core;
-        Self::check_interface(core, pass.name, pass.bindings, pass.push)?;
+        self.check_interface(core, pass.name, pass.bindings, pass.push)?;
         let writes_storage = pass.bindings.iter().any(|b| {
             matches!(
                 b,
@@ -638,7 +734,7 @@ impl<'a> Recorder<'a> {
         let device = &self.gpu.shared.device;
         // SAFETY: attachments were transitioned to their attachment layouts by `sync`.
         unsafe { device.cmd_begin_rendering(self.cmd, &rendering) };
-        self.bind(core, pass.bindings, pass.push);
+        self.bind(core, pass.bindings, pass.push.bytes());
         let viewport = vk::Viewport {
             x: 0.0,
             y: 0.0,
@@ -661,7 +757,7 @@ impl<'a> Recorder<'a> {
     }
 
     /// Copy `size` bytes from the start of `src` to the start of `dst`.
-    pub fn copy_buffer(&mut self, name: &str, src: &Buffer, dst: &Buffer, size: u64) {
+    pub fn copy_buffer(&mut self, name: &'static str, src: &Buffer, dst: &Buffer, size: u64) {
         let scope = self.begin_scope(name);
         self.sync(&[
             (Resource::Buffer(src), Access::TransferRead),
@@ -685,7 +781,7 @@ impl<'a> Recorder<'a> {
     }
 
     /// Fill a buffer with a repeated 32-bit value (0 clears it).
-    pub fn fill_buffer(&mut self, name: &str, buffer: &Buffer, value: u32) {
+    pub fn fill_buffer(&mut self, name: &'static str, buffer: &Buffer, value: u32) {
         let scope = self.begin_scope(name);
         self.sync(&[(Resource::Buffer(buffer), Access::TransferWrite)]);
         // SAFETY: the buffer is alive and was created with TRANSFER_DST.
@@ -700,7 +796,7 @@ impl<'a> Recorder<'a> {
 
     /// Overwrite the start of a buffer with `data` from the command buffer (at most 64 KiB, a
     /// multiple of 4 bytes), ordered with the passes around it like any transfer.
-    pub fn update_buffer(&mut self, name: &str, buffer: &Buffer, data: &[u8]) {
+    pub fn update_buffer(&mut self, name: &'static str, buffer: &Buffer, data: &[u8]) {
         if data.is_empty() {
             return;
         }
@@ -717,7 +813,7 @@ impl<'a> Recorder<'a> {
     }
 
     /// Clear a colour image to `colour`.
-    pub fn clear_image(&mut self, name: &str, image: &Image, colour: [f32; 4]) {
+    pub fn clear_image(&mut self, name: &'static str, image: &Image, colour: [f32; 4]) {
         let scope = self.begin_scope(name);
         self.sync(&[(Resource::Image(image), Access::TransferWrite)]);
         let value = vk::ClearColorValue { float32: colour };
@@ -737,7 +833,14 @@ impl<'a> Recorder<'a> {
 
     /// Copy a rectangle of `src` (x, y, width, height) into a rectangle of `dst`, scaling with
     /// linear filtering when the sizes differ.
-    pub fn blit(&mut self, name: &str, src: &Image, from: [i32; 4], dst: &Image, to: [i32; 4]) {
+    pub fn blit(
+        &mut self,
+        name: &'static str,
+        src: &Image,
+        from: [i32; 4],
+        dst: &Image,
+        to: [i32; 4],
+    ) {
         let scope = self.begin_scope(name);
         self.sync(&[
             (Resource::Image(src), Access::TransferRead),
@@ -820,7 +923,7 @@ impl<'a> Recorder<'a> {
     }
 
     /// Copy layer 0 of an image into a buffer, tightly packed.
-    pub fn copy_image_to_buffer(&mut self, name: &str, image: &Image, buffer: &Buffer) {
+    pub fn copy_image_to_buffer(&mut self, name: &'static str, image: &Image, buffer: &Buffer) {
         let scope = self.begin_scope(name);
         self.sync(&[
             (Resource::Image(image), Access::TransferRead),

@@ -2,15 +2,17 @@
 //!
 //! A frame's queries are read only after that frame's fence has signalled, and without
 //! `VK_QUERY_RESULT_WAIT_BIT`, so reading never stalls the CPU on fresh queries. Deltas are
-//! masked with the queue's `timestampValidBits` (wrap-safe), zero or inverted pairs are dropped,
-//! and ticks become nanoseconds through `timestampPeriod`.
+//! masked with the `timestampValidBits` of the queue family each scope ran on (wrap-safe), zero
+//! or inverted pairs are dropped, and ticks become nanoseconds through `timestampPeriod`. Every
+//! scope carries its [`ScopeTag`], so reports select passes by method, stage, part and step.
 
 use std::sync::Arc;
 
 use ash::vk;
 use serde::Serialize;
 
-use super::context::{DeviceShared, Gpu, Queue};
+use super::context::{DeviceShared, Gpu};
+use super::scope::{ScopeTag, Stage};
 use super::{GpuResult, vk_err};
 
 /// Timestamp pairs a frame can hold (passes per frame).
@@ -18,29 +20,37 @@ const SCOPES_PER_FRAME: u32 = 1024;
 /// The name of the scope that spans the whole frame.
 pub const FRAME_SCOPE: &str = "frame";
 
-/// The query pool of one frame in flight, and the names of the scopes recorded into it.
+/// The query pool of one frame in flight, and the tags and queue families of the scopes
+/// recorded into it.
 pub struct FrameQueries {
     pool: vk::QueryPool,
-    names: Vec<String>,
+    scopes: Vec<(ScopeTag, u32)>,
+    /// Timestamp bits per queue family (0: the family has no timestamps).
+    valid_bits: Vec<u32>,
     /// Scopes that did not fit into the pool this frame.
     overflowed: u32,
 }
 
 impl FrameQueries {
-    /// Start a timestamp scope; None when the pool is full (the scope goes untimed and counted).
+    /// Start a timestamp scope on a command buffer of queue family `family`; None when the pool
+    /// is full (the scope goes untimed and counted) or the family has no timestamps.
     pub(crate) fn begin(
         &mut self,
         device: &ash::Device,
         cmd: vk::CommandBuffer,
-        name: &str,
+        family: u32,
+        tag: ScopeTag,
     ) -> Option<u32> {
-        let index = self.names.len() as u32;
+        if self.valid_bits.get(family as usize).copied().unwrap_or(0) == 0 {
+            return None;
+        }
+        let index = self.scopes.len() as u32;
         if index >= SCOPES_PER_FRAME {
             self.overflowed += 1;
             return None;
         }
-        self.names.push(name.to_string());
-        // SAFETY: query 2*index was reset at the start of this command buffer and is written once.
+        self.scopes.push((tag, family));
+        // SAFETY: query 2*index was reset at the start of this frame and is written once.
         unsafe {
             device.cmd_write_timestamp2(
                 cmd,
@@ -69,6 +79,7 @@ impl FrameQueries {
 #[derive(Clone, Debug, Serialize)]
 pub struct ScopeSample {
     pub name: String,
+    pub tag: ScopeTag,
     pub frame: u64,
     pub start_ns: f64,
     pub duration_ns: f64,
@@ -78,6 +89,8 @@ pub struct ScopeSample {
 #[derive(Clone, Debug, Serialize)]
 pub struct PassTiming {
     pub name: String,
+    /// The tag of the pass's first sample (passes of one name share method, stage and pass).
+    pub tag: ScopeTag,
     /// Times the pass ran in total (a pass may run several times per frame).
     pub samples: usize,
     /// Per-frame sums of the pass's time (ns), one per frame it ran in.
@@ -107,7 +120,6 @@ pub struct Profiler {
     shared: Arc<DeviceShared>,
     slots: Vec<FrameQueries>,
     slot_frame: Vec<Option<u64>>,
-    valid_mask: u64,
     period_ns: f64,
     enabled: bool,
     origin_ticks: Option<u64>,
@@ -119,26 +131,34 @@ pub struct Profiler {
 }
 
 impl Profiler {
-    /// A profiler with one query pool per frame in flight, for work submitted to `queue`.
-    pub fn new(gpu: &Gpu, frames_in_flight: usize, queue: &Queue) -> GpuResult<Profiler> {
-        let bits = queue.timestamp_valid_bits;
-        let enabled = bits > 0 && gpu.info.timestamp_period_ns > 0.0;
+    /// A profiler with one query pool per frame in flight, for work submitted to the queues of
+    /// the GPU's queue plan.
+    pub fn new(gpu: &Gpu, frames_in_flight: usize) -> GpuResult<Profiler> {
+        let plan = &gpu.queues;
+        let mut valid_bits = Vec::new();
+        for queue in std::iter::once(&plan.graphics).chain(&plan.async_compute) {
+            let family = queue.family as usize;
+            if valid_bits.len() <= family {
+                valid_bits.resize(family + 1, 0);
+            }
+            valid_bits[family] = queue.timestamp_valid_bits;
+        }
+        let enabled = plan.graphics.timestamp_valid_bits > 0 && gpu.info.timestamp_period_ns > 0.0;
         let mut notes = Vec::new();
-        if !enabled {
-            notes.push(format!(
-                "queue family {} has no timestamps (timestampValidBits = 0): no GPU times",
-                queue.family
-            ));
+        for (family, &bits) in valid_bits.iter().enumerate() {
+            let used = std::iter::once(&plan.graphics)
+                .chain(&plan.async_compute)
+                .any(|q| q.family as usize == family);
+            if used && bits == 0 {
+                notes.push(format!(
+                    "queue family {family} has no timestamps (timestampValidBits = 0): its passes are not timed"
+                ));
+            }
         }
         let mut profiler = Profiler {
             shared: gpu.shared.clone(),
             slots: Vec::new(),
             slot_frame: vec![None; frames_in_flight],
-            valid_mask: if bits >= 64 {
-                u64::MAX
-            } else {
-                (1u64 << bits) - 1
-            },
             period_ns: gpu.info.timestamp_period_ns,
             enabled,
             origin_ticks: None,
@@ -158,7 +178,8 @@ impl Profiler {
                     .map_err(vk_err("creating a timestamp query pool"))?;
                 profiler.slots.push(FrameQueries {
                     pool,
-                    names: Vec::new(),
+                    scopes: Vec::new(),
+                    valid_bits: valid_bits.clone(),
                     overflowed: 0,
                 });
             }
@@ -186,7 +207,7 @@ impl Profiler {
         }
         self.slot_frame[slot] = Some(frame);
         let queries = &mut self.slots[slot];
-        queries.names.clear();
+        queries.scopes.clear();
         queries.overflowed = 0;
         // SAFETY: the slot's previous frame has completed (its fence signalled and it was
         // collected), so no pending command uses these queries.
@@ -227,7 +248,7 @@ impl Profiler {
             return Ok(());
         };
         let queries = &self.slots[slot];
-        let count = queries.names.len();
+        let count = queries.scopes.len();
         self.dropped += u64::from(queries.overflowed);
         if count == 0 {
             return Ok(());
@@ -247,20 +268,35 @@ impl Profiler {
             Ok(()) | Err(vk::Result::NOT_READY) => {}
             Err(e) => return Err(vk_err("reading timestamp queries")(e)),
         }
-        let names = queries.names.clone();
+        let scopes = queries.scopes.clone();
+        let valid_bits = queries.valid_bits.clone();
+        let frame_family = scopes.first().map_or(0, |s| s.1);
+        let mask = |family: u32| {
+            let bits = valid_bits[family as usize];
+            if bits >= 64 {
+                u64::MAX
+            } else {
+                (1u64 << bits) - 1
+            }
+        };
+        let frame_mask = mask(frame_family);
         let mut any = false;
-        for (index, name) in names.into_iter().enumerate() {
+        for (index, (tag, family)) in scopes.into_iter().enumerate() {
+            let valid_mask = mask(family);
             let [start, start_ok] = results[2 * index];
             let [end, end_ok] = results[2 * index + 1];
-            let Some(ticks) = timestamp_delta(self.valid_mask, [start, start_ok], [end, end_ok])
-            else {
+            let Some(ticks) = timestamp_delta(valid_mask, [start, start_ok], [end, end_ok]) else {
                 self.dropped += 1;
                 continue;
             };
-            let origin = *self.origin_ticks.get_or_insert(start & self.valid_mask);
-            let since_origin = (start & self.valid_mask).wrapping_sub(origin) & self.valid_mask;
+            // Start times are placed on the frame's (first scope's) timeline; queues of one
+            // device share the timestamp clock, masked to the narrower width.
+            let start = start & valid_mask & frame_mask;
+            let origin = *self.origin_ticks.get_or_insert(start);
+            let since_origin = start.wrapping_sub(origin) & valid_mask & frame_mask;
             self.samples.push(ScopeSample {
-                name,
+                name: tag.name(),
+                tag,
                 frame,
                 start_ns: since_origin as f64 * self.period_ns,
                 duration_ns: ticks as f64 * self.period_ns,
@@ -307,7 +343,11 @@ impl Profiler {
                 }
             }
             let values: Vec<f64> = per_frame.iter().map(|p| p.1).collect();
-            summarize(name, count, values)
+            let mut timing = summarize(name, count, values);
+            if let Some(first) = self.samples.iter().find(|s| s.name == name) {
+                timing.tag = first.tag;
+            }
+            timing
         };
         let frame = order
             .iter()
@@ -353,7 +393,11 @@ impl Profiler {
                     "ts": s.start_ns / 1000.0,
                     "dur": s.duration_ns / 1000.0,
                     "pid": 1,
-                    "tid": if s.name == FRAME_SCOPE { 0 } else { 1 },
+                    "tid": match (s.tag.stage, s.tag.part) {
+                        (Stage::Frame, _) => 0,
+                        (_, Some(part)) => 2 + part.index,
+                        _ => 1,
+                    },
                     "args": { "frame": s.frame },
                 })
             })
@@ -396,6 +440,7 @@ pub fn summarize(name: &str, samples: usize, mut values: Vec<f64>) -> PassTiming
     };
     PassTiming {
         name: name.to_string(),
+        tag: ScopeTag::default(),
         samples,
         per_frame_ns: per_frame,
         avg_ns: if n > 0 {

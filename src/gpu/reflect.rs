@@ -1,5 +1,7 @@
-//! A small SPIR-V reader: the descriptor bindings, push-constant size and workgroup size a shader
-//! declares. Pipelines are built from this, and every pass's bindings are checked against it.
+//! A small SPIR-V reader: the descriptor bindings (and which of them the shader may write), the
+//! push-constant block's size and member layout, and the workgroup size a shader declares.
+//! Pipelines are built from this, and every pass's bindings and push constants are checked
+//! against it.
 
 use std::collections::HashMap;
 
@@ -32,8 +34,12 @@ impl DescriptorKind {
 pub struct ShaderInterface {
     /// (binding, kind) in set 0, sorted by binding.
     pub bindings: Vec<(u32, DescriptorKind)>,
+    /// Bindings of storage buffers and images the shader may write (not declared `readonly`).
+    pub writable: Vec<u32>,
     /// Size of the push-constant block in bytes (0 if none).
     pub push_constant_size: u32,
+    /// (offset, size) in bytes of each member of the push-constant block, in declaration order.
+    pub push_constant_members: Vec<(u32, u32)>,
     /// The compute workgroup size from `LocalSize` (None for other stages or `LocalSizeId`).
     pub local_size: Option<[u32; 3]>,
     /// Specialization-constant IDs whose values set the workgroup size (from `LocalSizeId` or
@@ -58,7 +64,16 @@ impl ShaderInterface {
             }
         }
         self.bindings.sort_by_key(|b| b.0);
-        self.push_constant_size = self.push_constant_size.max(other.push_constant_size);
+        for &binding in &other.writable {
+            if !self.writable.contains(&binding) {
+                self.writable.push(binding);
+            }
+        }
+        self.writable.sort_unstable();
+        if other.push_constant_size > self.push_constant_size {
+            self.push_constant_size = other.push_constant_size;
+            self.push_constant_members = other.push_constant_members.clone();
+        }
         Ok(())
     }
 }
@@ -90,6 +105,7 @@ const DECORATION_BUFFER_BLOCK: u32 = 3;
 const DECORATION_ARRAY_STRIDE: u32 = 6;
 const DECORATION_MATRIX_STRIDE: u32 = 7;
 const DECORATION_BUILTIN: u32 = 11;
+const DECORATION_NON_WRITABLE: u32 = 24;
 const DECORATION_BINDING: u32 = 33;
 const DECORATION_DESCRIPTOR_SET: u32 = 34;
 const DECORATION_OFFSET: u32 = 35;
@@ -131,6 +147,8 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
     let mut array_strides: HashMap<u32, u32> = HashMap::new();
     let mut matrix_strides: HashMap<(u32, u32), u32> = HashMap::new();
     let mut offsets: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut non_writable: Vec<u32> = Vec::new();
+    let mut non_writable_members: Vec<(u32, u32)> = Vec::new();
     let mut workgroup_builtin: Option<u32> = None;
     let mut composites: HashMap<u32, Vec<u32>> = HashMap::new();
     let mut variables: Vec<(u32, u32, u32)> = Vec::new(); // (type, id, storage)
@@ -233,6 +251,7 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
                     DECORATION_BUILTIN if value == BUILTIN_WORKGROUP_SIZE => {
                         workgroup_builtin = Some(op[0]);
                     }
+                    DECORATION_NON_WRITABLE => non_writable.push(op[0]),
                     _ => {}
                 }
             }
@@ -245,6 +264,9 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
                 }
                 _ => {}
             },
+            OP_MEMBER_DECORATE if op.len() == 3 && op[2] == DECORATION_NON_WRITABLE => {
+                non_writable_members.push((op[0], op[1]));
+            }
             OP_ENTRY_POINT => {}
             _ => {}
         }
@@ -288,6 +310,7 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
         let pointee = *pointee;
         if storage == STORAGE_PUSH_CONSTANT {
             interface.push_constant_size = layout.size_of(pointee, None)?;
+            interface.push_constant_members = layout.members(pointee)?;
             continue;
         }
         let kind = match storage {
@@ -323,9 +346,24 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
         if interface.bindings.iter().any(|(b, _)| *b == binding) {
             return Err(format!("binding {binding} is declared twice"));
         }
+        let read_only = non_writable.contains(&id)
+            || match types.get(&pointee) {
+                Some(Type::Struct { members }) => {
+                    (0..members.len() as u32).all(|m| non_writable_members.contains(&(pointee, m)))
+                }
+                _ => false,
+            };
+        let storage_kind = matches!(
+            kind,
+            DescriptorKind::StorageBuffer | DescriptorKind::StorageImage
+        );
+        if storage_kind && !read_only {
+            interface.writable.push(binding);
+        }
         interface.bindings.push((binding, kind));
     }
     interface.bindings.sort_by_key(|b| b.0);
+    interface.writable.sort_unstable();
     Ok(interface)
 }
 
@@ -338,6 +376,23 @@ struct Layout<'a> {
 }
 
 impl Layout<'_> {
+    /// (offset, size) of each member of struct `id`, in declaration order.
+    fn members(&self, id: u32) -> Result<Vec<(u32, u32)>, String> {
+        let Some(Type::Struct { members }) = self.types.get(&id) else {
+            return Err(format!("type %{id} is not a struct"));
+        };
+        let mut layout = Vec::with_capacity(members.len());
+        let mut end = 0;
+        for (index, &member) in members.iter().enumerate() {
+            let key = (id, index as u32);
+            let offset = self.offsets.get(&key).copied().unwrap_or(end);
+            let size = self.size_of(member, self.matrix_strides.get(&key).copied())?;
+            end = offset + size;
+            layout.push((offset, size));
+        }
+        Ok(layout)
+    }
+
     /// Size in bytes of a type laid out with explicit offsets and strides (a block member).
     /// `matrix_stride` is the stride of a matrix member when known.
     fn size_of(&self, id: u32, matrix_stride: Option<u32>) -> Result<u32, String> {
@@ -413,6 +468,7 @@ mod tests {
             &[OP_MEMBER_DECORATE, 3, 1, DECORATION_OFFSET, 16],
             &[OP_DECORATE, 8, DECORATION_BINDING, 3],
             &[OP_DECORATE, 8, DECORATION_DESCRIPTOR_SET, 0],
+            &[OP_DECORATE, 8, DECORATION_NON_WRITABLE],
             &[OP_DECORATE, 11, DECORATION_BINDING, 1],
             &[OP_DECORATE, 9, DECORATION_BLOCK],
             &[OP_TYPE_FLOAT, 1, 32],
@@ -434,6 +490,12 @@ mod tests {
         };
         assert_eq!(i.local_size, Some([8, 4, 2]));
         assert_eq!(i.push_constant_size, 20);
+        assert_eq!(i.push_constant_members, vec![(0, 16), (16, 4)]);
+        assert_eq!(
+            i.writable,
+            vec![1],
+            "the image is readonly, the buffer is not"
+        );
         assert_eq!(
             i.bindings,
             vec![
@@ -441,6 +503,32 @@ mod tests {
                 (3, DescriptorKind::StorageImage)
             ]
         );
+    }
+
+    #[test]
+    fn a_buffer_whose_members_are_all_readonly_is_not_writable() {
+        // %9 = struct{float, float} at binding 0, both members NonWritable; %13 = struct{float}
+        // at binding 1, not.
+        let words = spirv(&[
+            &[OP_DECORATE, 9, DECORATION_BLOCK],
+            &[OP_MEMBER_DECORATE, 9, 0, DECORATION_NON_WRITABLE],
+            &[OP_MEMBER_DECORATE, 9, 1, DECORATION_NON_WRITABLE],
+            &[OP_DECORATE, 11, DECORATION_BINDING, 0],
+            &[OP_DECORATE, 13, DECORATION_BLOCK],
+            &[OP_DECORATE, 15, DECORATION_BINDING, 1],
+            &[OP_TYPE_FLOAT, 1, 32],
+            &[OP_TYPE_STRUCT, 9, 1, 1],
+            &[OP_TYPE_POINTER, 10, STORAGE_STORAGE_BUFFER, 9],
+            &[OP_VARIABLE, 10, 11, STORAGE_STORAGE_BUFFER],
+            &[OP_TYPE_STRUCT, 13, 1],
+            &[OP_TYPE_POINTER, 14, STORAGE_STORAGE_BUFFER, 13],
+            &[OP_VARIABLE, 14, 15, STORAGE_STORAGE_BUFFER],
+        ]);
+        let i = match reflect(&words) {
+            Ok(i) => i,
+            Err(e) => panic!("reflection failed: {e}"),
+        };
+        assert_eq!(i.writable, vec![1]);
     }
 
     #[test]

@@ -1,36 +1,41 @@
-//! Small PNG plots for reports: scatter series on log-log axes with decade ticks, optional
-//! connecting lines, a marked subset (e.g. the Pareto front), a legend and labels drawn with a
-//! built-in 3x5 pixel font, so plotting needs no font or graphics library.
+//! The report's PNG figures: scatter plots on log-log axes (plotters, bitmap backend) and the
+//! labelled image strip (panels composited with `image::imageops`). Text uses an embedded subset
+//! of DejaVu Sans (assets/fonts, licence beside it) registered with plotters' ab_glyph backend,
+//! so no system font or fontconfig is needed.
 
-use image::{Rgb, RgbImage};
+use std::sync::OnceLock;
 
-use crate::font::glyph;
+use anyhow::anyhow;
+use image::RgbImage;
+use plotters::prelude::*;
+use plotters::style::FontStyle;
 
-const WIDTH: u32 = 900;
-const HEIGHT: u32 = 560;
-const LEFT: i32 = 90;
-const RIGHT: i32 = 30;
-const TOP: i32 = 50;
-const BOTTOM: i32 = 70;
-/// Each font pixel is drawn as a SCALE x SCALE block.
-const SCALE: i32 = 2;
+const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans-subset.ttf");
+const FAMILY: &str = "sans-serif";
+const SIZE: (u32, u32) = (900, 560);
+/// Height of the label row under each panel of a strip.
+const LABEL_HEIGHT: u32 = 18;
 
-pub const PALETTE: [[u8; 3]; 6] = [
-    [31, 119, 180],
-    [255, 127, 14],
-    [44, 160, 44],
-    [214, 39, 40],
-    [148, 103, 189],
-    [140, 86, 75],
+/// Series colours, in order (matplotlib's "tab10").
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(31, 119, 180),
+    RGBColor(255, 127, 14),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
 ];
 
-/// One series: points (x, y) > 0, drawn in `colour`; `marked` points get a ring.
+/// One series: points (x, y) (only positive, finite ones can be drawn on log axes); `marked`
+/// points get a ring (e.g. the Pareto front).
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
     pub marked: Vec<bool>,
+    /// Join the points with a line, in order.
     pub connect: bool,
-    pub colour: [u8; 3],
 }
 
 pub struct Plot {
@@ -40,224 +45,126 @@ pub struct Plot {
     pub series: Vec<Series>,
 }
 
-/// Pixel width of `text` when drawn at the plot's scale.
-fn text_width(text: &str) -> i32 {
-    text.chars().count() as i32 * 4 * SCALE
+/// Register the embedded font once; later calls return the first call's outcome.
+fn register_font() -> anyhow::Result<()> {
+    static REGISTERED: OnceLock<Result<(), String>> = OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            plotters::style::register_font(FAMILY, FontStyle::Normal, FONT)
+                .map_err(|_| "the embedded plot font is not a valid TrueType font".to_string())
+        })
+        .clone()
+        .map_err(|e| anyhow!(e))
 }
 
-fn put(img: &mut RgbImage, x: i32, y: i32, colour: [u8; 3]) {
-    if x >= 0 && y >= 0 && (x as u32) < img.width() && (y as u32) < img.height() {
-        img.put_pixel(x as u32, y as u32, Rgb(colour));
-    }
+fn drawable(p: &(f64, f64)) -> bool {
+    p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
 }
 
-/// Draw `text` at the plot's scale with its top-left corner at (x, y); vertical text reads
-/// bottom to top.
-fn draw_text(img: &mut RgbImage, x: i32, y: i32, text: &str, colour: [u8; 3], vertical: bool) {
-    draw_text_scaled(img, x, y, text, colour, vertical, SCALE);
-}
-
-fn draw_text_scaled(
-    img: &mut RgbImage,
-    x: i32,
-    y: i32,
-    text: &str,
-    colour: [u8; 3],
-    vertical: bool,
-    scale: i32,
-) {
-    for (i, c) in text.chars().enumerate() {
-        let rows = glyph(c);
-        for (row, bits) in rows.iter().enumerate() {
-            for col in 0..3 {
-                if bits & (4 >> col) == 0 {
-                    continue;
-                }
-                for dy in 0..scale {
-                    for dx in 0..scale {
-                        let (gx, gy) = ((i as i32 * 4 + col) * scale + dx, row as i32 * scale + dy);
-                        if vertical {
-                            put(img, x + gy, y - gx, colour);
-                        } else {
-                            put(img, x + gx, y + gy, colour);
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
-fn draw_line(img: &mut RgbImage, (x0, y0): (i32, i32), (x1, y1): (i32, i32), colour: [u8; 3]) {
-    let steps = (x1 - x0).abs().max((y1 - y0).abs()).max(1);
-    for s in 0..=steps {
-        let t = s as f64 / steps as f64;
-        let x = x0 as f64 + (x1 - x0) as f64 * t;
-        let y = y0 as f64 + (y1 - y0) as f64 * t;
-        put(img, x.round() as i32, y.round() as i32, colour);
-    }
-}
-
-fn draw_disc(img: &mut RgbImage, cx: i32, cy: i32, r: i32, colour: [u8; 3]) {
-    for dy in -r..=r {
-        for dx in -r..=r {
-            if dx * dx + dy * dy <= r * r {
-                put(img, cx + dx, cy + dy, colour);
-            }
-        }
-    }
-}
-
-fn draw_ring(img: &mut RgbImage, cx: i32, cy: i32, r: i32, colour: [u8; 3]) {
-    for dy in -r - 1..=r + 1 {
-        for dx in -r - 1..=r + 1 {
-            let d2 = dx * dx + dy * dy;
-            if d2 <= (r + 1) * (r + 1) && d2 >= (r - 1) * (r - 1) {
-                put(img, cx + dx, cy + dy, colour);
-            }
-        }
-    }
-}
-
-/// A short label for a tick value.
-fn tick_label(v: f64) -> String {
-    if (1e-3..1e5).contains(&v.abs()) {
-        let s = format!("{v:.3}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
+/// A log axis range around `values` (one decade around 1 when there are none).
+fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
+    let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    if lo.is_finite() && hi > 0.0 {
+        lo / 1.3..hi * 1.3
     } else {
-        format!("{v:.0e}")
+        0.1..10.0
     }
 }
 
-/// Log-scale range covering `values`, widened to whole decades' neighbourhood.
-fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = values
-        .filter(|v| *v > 0.0 && v.is_finite())
-        .fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
-    if lo > hi {
-        return (0.0, 1.0);
-    }
-    let (lo, hi) = (lo.log10(), hi.log10());
-    let pad = ((hi - lo) * 0.08).max(0.05);
-    (lo - pad, hi + pad)
+fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow!("drawing a plot: {e:?}")
 }
 
 impl Plot {
-    /// Render the plot with logarithmic x and y axes.
-    pub fn render(&self) -> RgbImage {
-        let mut img = RgbImage::from_pixel(WIDTH, HEIGHT, Rgb([255, 255, 255]));
-        let (x0, x1) = log_range(
-            self.series
-                .iter()
-                .flat_map(|s| s.points.iter().map(|p| p.0)),
-        );
-        let (y0, y1) = log_range(
-            self.series
-                .iter()
-                .flat_map(|s| s.points.iter().map(|p| p.1)),
-        );
-        let (w, h) = (WIDTH as i32 - LEFT - RIGHT, HEIGHT as i32 - TOP - BOTTOM);
-        let to_px = |x: f64, y: f64| -> (i32, i32) {
-            let fx = (x.log10() - x0) / (x1 - x0);
-            let fy = (y.log10() - y0) / (y1 - y0);
-            (
-                LEFT + (fx * w as f64).round() as i32,
-                TOP + h - (fy * h as f64).round() as i32,
-            )
-        };
-        let grey = [200, 200, 200];
-        let black = [0, 0, 0];
-        // Decade ticks, subdivided (2 and 5, or every digit) when the range is narrow.
-        let ticks = |lo: f64, hi: f64| -> Vec<f64> {
-            let mut t = Vec::new();
-            let multiples: &[f64] = if hi - lo < 0.6 {
-                &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]
-            } else if hi - lo < 1.5 {
-                &[1.0, 2.0, 5.0]
-            } else {
-                &[1.0]
+    pub fn render(&self) -> anyhow::Result<RgbImage> {
+        register_font()?;
+        let (width, height) = SIZE;
+        let mut buffer = vec![255u8; (width * height * 3) as usize];
+        {
+            let root = BitMapBackend::with_buffer(&mut buffer, SIZE).into_drawing_area();
+            root.fill(&WHITE).map_err(plot_error)?;
+            let points = || {
+                self.series
+                    .iter()
+                    .flat_map(|s| s.points.iter().copied())
+                    .filter(drawable)
             };
-            for e in (lo.floor() as i32)..=(hi.ceil() as i32) {
-                for m in multiples {
-                    let v = m * 10f64.powi(e);
-                    if v.log10() >= lo && v.log10() <= hi {
-                        t.push(v);
-                    }
+            let x = log_range(points().map(|p| p.0));
+            let y = log_range(points().map(|p| p.1));
+            let mut chart = ChartBuilder::on(&root)
+                .caption(&self.title, (FAMILY, 18))
+                .margin(16)
+                .x_label_area_size(48)
+                .y_label_area_size(72)
+                .build_cartesian_2d(x.log_scale(), y.log_scale())
+                .map_err(plot_error)?;
+            chart
+                .configure_mesh()
+                .x_desc(self.x_label.as_str())
+                .y_desc(self.y_label.as_str())
+                .label_style((FAMILY, 13))
+                .axis_desc_style((FAMILY, 15))
+                .draw()
+                .map_err(plot_error)?;
+            for (k, series) in self.series.iter().enumerate() {
+                let colour = PALETTE[k % PALETTE.len()];
+                let points: Vec<(f64, f64)> =
+                    series.points.iter().copied().filter(drawable).collect();
+                if series.connect {
+                    chart
+                        .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
+                        .map_err(plot_error)?;
                 }
+                chart
+                    .draw_series(points.iter().map(|&p| Circle::new(p, 4, colour.filled())))
+                    .map_err(plot_error)?
+                    .label(series.label.as_str())
+                    .legend(move |(x, y)| Circle::new((x, y), 4, colour.filled()));
+                let marked = series
+                    .points
+                    .iter()
+                    .zip(&series.marked)
+                    .filter(|(p, m)| **m && drawable(p))
+                    .map(|(&p, _)| Circle::new(p, 8, colour.stroke_width(2)));
+                chart.draw_series(marked).map_err(plot_error)?;
             }
-            t
-        };
-        for v in ticks(x0, x1) {
-            let (px, _) = to_px(v, 10f64.powf(y0));
-            draw_line(&mut img, (px, TOP), (px, TOP + h), grey);
-            let label = tick_label(v);
-            draw_text(
-                &mut img,
-                px - text_width(&label) / 2,
-                TOP + h + 8,
-                &label,
-                black,
-                false,
-            );
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font((FAMILY, 13))
+                .draw()
+                .map_err(plot_error)?;
+            root.present().map_err(plot_error)?;
         }
-        for v in ticks(y0, y1) {
-            let (_, py) = to_px(10f64.powf(x0), v);
-            draw_line(&mut img, (LEFT, py), (LEFT + w, py), grey);
-            let label = tick_label(v);
-            draw_text(
-                &mut img,
-                LEFT - 8 - text_width(&label),
-                py - 5,
-                &label,
-                black,
-                false,
-            );
-        }
-        draw_line(&mut img, (LEFT, TOP + h), (LEFT + w, TOP + h), black);
-        draw_line(&mut img, (LEFT, TOP), (LEFT, TOP + h), black);
-        draw_text(&mut img, LEFT, 14, &self.title, black, false);
-        draw_text(
-            &mut img,
-            LEFT + w / 2 - text_width(&self.x_label) / 2,
-            TOP + h + 32,
-            &self.x_label,
-            black,
-            false,
-        );
-        draw_text(
-            &mut img,
-            14,
-            TOP + h / 2 + text_width(&self.y_label) / 2,
-            &self.y_label,
-            black,
-            true,
-        );
-        for (i, s) in self.series.iter().enumerate() {
-            let pts: Vec<(i32, i32)> = s.points.iter().map(|&(x, y)| to_px(x, y)).collect();
-            if s.connect {
-                for pair in pts.windows(2) {
-                    draw_line(&mut img, pair[0], pair[1], s.colour);
-                }
-            }
-            for (k, &(px, py)) in pts.iter().enumerate() {
-                draw_disc(&mut img, px, py, 3, s.colour);
-                if s.marked.get(k).copied().unwrap_or(false) {
-                    draw_ring(&mut img, px, py, 7, black);
-                }
-            }
-            let ly = TOP + 8 + i as i32 * 16;
-            let lx = LEFT + w - 220;
-            draw_disc(&mut img, lx, ly + 4, 4, s.colour);
-            draw_text(&mut img, lx + 12, ly, &s.label, black, false);
-        }
-        img
+        RgbImage::from_raw(width, height, buffer).ok_or_else(|| anyhow!("plot buffer size"))
     }
 }
 
-/// Draw a small black label (one pixel per font pixel) with the built-in font.
-pub fn label(img: &mut RgbImage, x: i32, y: i32, text: &str) {
-    draw_text_scaled(img, x, y, text, [0, 0, 0], false, 1);
+/// Panels of equal size side by side, each with its label underneath.
+pub fn strip(panels: &[(String, RgbImage)]) -> anyhow::Result<RgbImage> {
+    register_font()?;
+    let (w, h) = panels.first().map_or((1, 1), |(_, p)| p.dimensions());
+    let width = w * panels.len().max(1) as u32;
+    let mut strip = RgbImage::from_pixel(width, h + LABEL_HEIGHT, image::Rgb([255, 255, 255]));
+    for (k, (_, panel)) in panels.iter().enumerate() {
+        image::imageops::replace(&mut strip, panel, i64::from(k as u32 * w), 0);
+    }
+    let (sw, sh) = strip.dimensions();
+    {
+        let buffer: &mut [u8] = &mut strip;
+        let area = BitMapBackend::with_buffer(buffer, (sw, sh)).into_drawing_area();
+        let style = TextStyle::from((FAMILY, 12).into_font()).color(&BLACK);
+        for (k, (label, _)) in panels.iter().enumerate() {
+            let at = ((k as u32 * w + 3) as i32, (h + 3) as i32);
+            area.draw_text(label, &style, at).map_err(plot_error)?;
+        }
+        area.present().map_err(plot_error)?;
+    }
+    Ok(strip)
 }
 
 /// Which points are on the Pareto front of (cost, error), both minimised.
@@ -283,26 +190,47 @@ mod tests {
     }
 
     #[test]
-    fn plots_draw_points_where_the_axes_put_them() {
+    fn plots_draw_series_colours_and_text() {
         let plot = Plot {
             title: "T".into(),
             x_label: "X".into(),
             y_label: "Y".into(),
             series: vec![Series {
                 label: "S".into(),
-                points: vec![(1.0, 1.0), (100.0, 10.0)],
-                marked: vec![true, false],
+                points: vec![(1.0, 1.0), (100.0, 10.0), (-1.0, 0.0)],
+                marked: vec![true, false, false],
                 connect: true,
-                colour: PALETTE[0],
             }],
         };
-        let img = plot.render();
-        assert_eq!(img.dimensions(), (WIDTH, HEIGHT));
-        let coloured = img.pixels().filter(|p| p.0 == PALETTE[0]).count();
+        let img = match plot.render() {
+            Ok(img) => img,
+            Err(e) => panic!("{e}"),
+        };
+        assert_eq!(img.dimensions(), SIZE);
+        let c = PALETTE[0];
+        let coloured = img.pixels().filter(|p| p.0 == [c.0, c.1, c.2]).count();
         assert!(coloured > 50, "series pixels drawn: {coloured}");
         assert!(
             img.pixels().any(|p| p.0 == [0, 0, 0]),
             "axes and text drawn"
         );
+    }
+
+    #[test]
+    fn strips_place_panels_side_by_side_with_labels() {
+        let red = RgbImage::from_pixel(20, 10, image::Rgb([255, 0, 0]));
+        let blue = RgbImage::from_pixel(20, 10, image::Rgb([0, 0, 255]));
+        let s = match strip(&[("a".into(), red), ("b".into(), blue)]) {
+            Ok(s) => s,
+            Err(e) => panic!("{e}"),
+        };
+        assert_eq!(s.dimensions(), (40, 10 + LABEL_HEIGHT));
+        assert_eq!(s.get_pixel(5, 5).0, [255, 0, 0]);
+        assert_eq!(s.get_pixel(25, 5).0, [0, 0, 255]);
+        let dark = (0..40)
+            .flat_map(|x| (10..10 + LABEL_HEIGHT).map(move |y| (x, y)))
+            .filter(|&(x, y)| s.get_pixel(x, y).0[0] < 128)
+            .count();
+        assert!(dark > 0, "labels drawn");
     }
 }

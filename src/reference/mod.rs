@@ -9,11 +9,7 @@ pub mod cache;
 pub mod cpu;
 pub mod rng;
 
-use std::io::{IsTerminal, Write};
-use std::time::Instant;
-
 use ash::vk;
-use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 use gpu_allocator::MemoryLocation;
 
@@ -23,7 +19,7 @@ use crate::gpu::{
 use crate::imageio::HdrImage;
 use crate::scene::Scene;
 use crate::scene::bvh::Bvh;
-use crate::scene::gpu::SceneBuffers;
+use crate::scene::gpu::{SceneBuffers, shadow_views};
 use crate::shader_shared as ids;
 use crate::shaders;
 
@@ -109,19 +105,19 @@ impl ReferenceImages {
     }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct PathTracePush {
-    inverse_view_projection: [[f32; 4]; 4],
-    camera_position_epsilon: [f32; 4],
-    size: [u32; 2],
-    first_sample: u32,
-    samples: u32,
-    seed: u32,
-    max_bounces: u32,
-    light_count: u32,
-    rr_start: u32,
-    has_emission: u32,
+crate::push_constants! {
+    struct PathTracePush {
+        inverse_view_projection: [[f32; 4]; 4],
+        camera_position_epsilon: [f32; 4],
+        size: [u32; 2],
+        first_sample: u32,
+        samples: u32,
+        seed: u32,
+        max_bounces: u32,
+        light_count: u32,
+        rr_start: u32,
+        has_emission: u32,
+    }
 }
 
 /// Samples per pixel summed in f32 on the GPU before the host adds them in f64.
@@ -165,7 +161,7 @@ pub struct PathTracer {
 
 impl PathTracer {
     pub fn new(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> anyhow::Result<PathTracer> {
-        crate::frame::check_image_size(gpu, width, height)?;
+        crate::render::targets::check_image_size(gpu, width, height)?;
         let pipeline = ComputePipeline::new(
             gpu,
             "path trace",
@@ -220,6 +216,20 @@ impl PathTracer {
         })
     }
 
+    /// Take the scene's lights as they are now (moved, aimed or dimmed; the same number of
+    /// lights as when the tracer was made).
+    pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) -> GpuResult<()> {
+        let (lights, _) = shadow_views(scene, 16);
+        if lights.len() as u32 != self.push.light_count {
+            return Err(crate::gpu::GpuError::Setup(format!(
+                "the path tracer was built for {} lights, not {}",
+                self.push.light_count,
+                lights.len()
+            )));
+        }
+        gpu.write_buffer(&self.scene.lights, bytemuck::cast_slice(&lights))
+    }
+
     /// One batch: `samples` samples per pixel from `first_sample` on, summed in f32 on the GPU
     /// and added to the f64 sums.
     fn batch(
@@ -251,7 +261,7 @@ impl PathTracer {
                     Binding::write(ids::REFERENCE_DIRECT_SUM, &self.direct_sum),
                     Binding::write(ids::REFERENCE_INDIRECT_SUM, &self.indirect_sum),
                 ],
-                push: bytemuck::bytes_of(&push),
+                push: &push,
                 threads: [push.size[0], push.size[1], 1],
             })?;
             rec.copy_buffer(
@@ -321,59 +331,5 @@ impl PathTracer {
             direct: mean(sums.direct)?,
             indirect: mean(sums.indirect)?,
         })
-    }
-}
-
-/// A progress bar on stderr when it is a terminal (nothing otherwise, e.g. in CI logs).
-pub struct ProgressBar {
-    start: Instant,
-    enabled: bool,
-    label: String,
-    unit: &'static str,
-}
-
-impl ProgressBar {
-    /// A bar counting samples per pixel.
-    pub fn new(label: &str) -> Self {
-        Self::counting(label, "spp")
-    }
-
-    /// A bar counting `unit`s (runs, configurations...).
-    pub fn counting(label: &str, unit: &'static str) -> Self {
-        ProgressBar {
-            start: Instant::now(),
-            enabled: std::io::stderr().is_terminal(),
-            label: label.to_string(),
-            unit,
-        }
-    }
-
-    pub fn update(&mut self, done: u32, total: u32) {
-        if !self.enabled || total == 0 {
-            return;
-        }
-        let fraction = f64::from(done) / f64::from(total);
-        let width = 30;
-        let filled = (fraction * width as f64).round() as usize;
-        let elapsed = self.start.elapsed().as_secs_f64();
-        let eta = if done > 0 {
-            elapsed * (1.0 / fraction - 1.0)
-        } else {
-            0.0
-        };
-        let mut err = std::io::stderr();
-        let _ = write!(
-            err,
-            "\r{} [{}{}] {:5.1}% {done}/{total} {}  {elapsed:.1} s, ETA {eta:.1} s ",
-            self.label,
-            "#".repeat(filled),
-            "-".repeat(width - filled),
-            100.0 * fraction,
-            self.unit
-        );
-        if done >= total {
-            let _ = writeln!(err);
-        }
-        let _ = err.flush();
     }
 }

@@ -30,6 +30,15 @@ pub struct Light {
 }
 
 impl Light {
+    /// Shadow (and RSM) views the light needs: one per spot light, six (cube faces) per point
+    /// light.
+    pub fn shadow_view_count(&self) -> u32 {
+        match self.kind {
+            LightKind::Spot { .. } => 1,
+            LightKind::Point => 6,
+        }
+    }
+
     /// cos of the outer (zero) and inner (full) cone angles; (-1, -1) for a point light.
     pub fn cone_cosines(&self) -> (f32, f32) {
         match self.kind {

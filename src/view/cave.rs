@@ -4,7 +4,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 
-use crate::frame::Eye;
+use crate::render::Eye;
 use crate::scene::Scene;
 
 /// A wall: its lower-left corner and the vectors along its bottom and left edges, as seen

@@ -6,9 +6,9 @@ use std::sync::Arc;
 use ash::vk;
 use winit::window::Window;
 
-use crate::frame::Frame;
 use crate::gpu::swapchain::{Acquired, Surface, Swapchain};
 use crate::gpu::{Gpu, GpuResult, Image, ImageDesc, Recorder};
+use crate::render::Frame;
 
 /// Where a view goes in the window: its index and the square or rectangle it fills
 /// (x, y, width, height in window pixels).

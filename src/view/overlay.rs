@@ -1,7 +1,6 @@
 //! The window's text overlay: lines of the built-in font in a darkened box at the top left,
 //! rasterised on the host into a mask and blended onto the window image by a compute pass.
 
-use bytemuck::{Pod, Zeroable};
 use gpu_allocator::MemoryLocation;
 
 use crate::font::glyph;
@@ -65,12 +64,12 @@ pub fn text_mask(lines: &[String]) -> (u32, u32, Vec<u32>) {
     (width, height, mask)
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct OverlayPush {
-    origin: [u32; 2],
-    size: [u32; 2],
-    target_size: [u32; 2],
+crate::push_constants! {
+    struct OverlayPush {
+        origin: [u32; 2],
+        size: [u32; 2],
+        target_size: [u32; 2],
+    }
 }
 
 /// The overlay pass, with one mask buffer per frame in flight (a frame's mask is written only
@@ -135,7 +134,7 @@ impl Overlay {
                 Binding::image_write(ids::OVERLAY_TARGET, target),
                 Binding::read(ids::OVERLAY_MASK, &self.masks[slot]),
             ],
-            push: bytemuck::bytes_of(&push),
+            push: &push,
             threads: [width, height, 1],
         })
     }

@@ -1,9 +1,9 @@
 //! Helpers shared by the integration tests: a validated GPU and one-frame renders.
 #![allow(dead_code)]
 
-use vkgi::frame::{Frame, FrameOptions};
 use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, GpuOptions};
+use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 
 /// A GPU context with the Khronos validation layers (synchronization validation included).
@@ -28,7 +28,7 @@ pub fn assert_no_validation_errors(gpu: &Gpu) {
 
 /// Render one raster frame of `scene` and return it with its linear HDR pixels.
 pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Frame, Vec<[f32; 3]>) {
-    let frame = Frame::new(
+    let mut frame = Frame::new(
         gpu,
         scene,
         FrameOptions {
@@ -38,7 +38,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, width: u32, height: u32) -> (Frame, Vec<
         },
     )
     .expect("frame");
-    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("frame ring");
+    let mut ring = FrameRing::new(gpu, 2).expect("frame ring");
     ring.submit_frame(gpu, &gpu.queues.graphics, &[], |rec| {
         frame.record(rec, None)
     })
@@ -187,13 +187,23 @@ pub fn render_gi(
     options: FrameOptions,
     frames: u32,
 ) -> Vec<[f32; 3]> {
-    let frame = Frame::new(gpu, scene, options).expect("frame");
-    let mut lpv = vkgi::gi::lpv::Lpv::new(gpu, scene, settings).expect("lpv");
-    let mut ring = FrameRing::new(gpu, gpu.queues.graphics, 2).expect("frame ring");
-    for _ in 0..frames {
-        frame.submit(gpu, &mut ring, Some(&mut lpv)).expect("frame");
-    }
-    ring.finish().expect("finish");
+    let setup = vkgi::gi::registry::Setup::new(gpu, scene);
+    let mut lpv = vkgi::gi::lpv::Lpv::new(&setup, settings).expect("lpv");
+    render_with(gpu, scene, &mut lpv, options, frames)
+}
+
+/// Render `frames` frames of `scene` with a GI method and return the linear HDR pixels.
+pub fn render_with(
+    gpu: &Gpu,
+    scene: &Scene,
+    method: &mut dyn vkgi::gi::GiMethod,
+    options: FrameOptions,
+    frames: u32,
+) -> Vec<[f32; 3]> {
+    let mut frame = Frame::new(gpu, scene, options).expect("frame");
+    let ring =
+        vkgi::render::runner::run_frames(gpu, &mut frame, Some(method), 0, frames).expect("frames");
+    drop(ring);
     frame.read_hdr(gpu).expect("readback")
 }
 

@@ -5,7 +5,7 @@
 use glam::{DVec3, DVec4, IVec3};
 
 use super::lattice::Lattice;
-use super::sh;
+use crate::gi::shared::sh;
 use super::transfer::{FaceScheme, TransferVectors};
 
 /// A virtual point light: a reflective-shadow-map texel.

@@ -13,12 +13,12 @@
 use glam::{DVec3, DVec4, Vec3};
 
 use super::lattice::Lattice;
-use super::sh;
+use crate::gi::shared::sh;
 use super::transfer::TransferVectors;
 use crate::scene::Mesh;
 
 /// Which SH lobe a surface sample adds to the geometry lattice.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum BlockingLobe {
     /// SH_cos(N): blocks light travelling along the stored normal (the thesis code).
     Front,

@@ -2,12 +2,14 @@
 //! seed 000's incremental 26-neighbour ILPV, sharing RSM injection, the fitted lattice, the
 //! geometry lattice and the lookup.
 
+pub mod bindings;
 pub mod cost;
 pub mod cpu;
+pub mod entry;
 pub mod geometry;
 pub mod lattice;
-pub mod sh;
 pub mod technique;
 pub mod transfer;
 
+pub use entry::METHODS;
 pub use technique::{Extinction, Lpv, LpvSettings, Scheme};

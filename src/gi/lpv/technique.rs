@@ -1,28 +1,28 @@
-//! The LPV technique on the GPU: its settings, its persistent resources, and the passes it adds
+//! The LPV method on the GPU: its settings, its persistent resources, and the passes it adds
 //! to a frame: reflective shadow maps, VPL injection, (ILPV) the blend with last frame's light,
-//! propagation per colour channel, and the lookup into the HDR image.
+//! propagation per colour channel (the method's three independent parts), and the lookup into
+//! the HDR image.
 
-use ash::vk;
-use bytemuck::{Pod, Zeroable};
 use glam::DVec4;
 
+use super::bindings as ids;
+use super::cost;
 use super::geometry::{self, BlockingLobe};
 use super::lattice::Lattice;
-use super::sh;
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
-use crate::frame::{Frame, View};
-use crate::gi::Technique;
+use crate::gi::registry::Setup;
+use crate::gi::shared::rsm::Rsm;
+use crate::gi::shared::sh;
+use crate::gi::{Convergence, CorePass, FrameContext, GiMethod};
 use crate::gpu::{
-    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
-    RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
+    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Part, Recorder,
+    Specialization,
 };
-use crate::scene::Scene;
-use crate::shader_shared as ids;
 use crate::shaders;
 
 /// Which propagation scheme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Scheme {
     /// Classic 6-neighbour, 5-face LPV with an accumulation lattice (Kaplanyan & Dachsbacher).
     Lpv,
@@ -31,7 +31,7 @@ pub enum Scheme {
 }
 
 /// How σa and σs become per-step probabilities λ on the lattice (d̄ = mean neighbour distance).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Extinction {
     /// The thesis: λ = σ^d̄ (σ in [0, 1]; depends on the world unit).
     Thesis,
@@ -40,7 +40,7 @@ pub enum Extinction {
 }
 
 /// What the ILPV lookup reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum IlpvLookup {
     /// The sum of this frame's merged lattice and its steps before the last, divided by the
     /// blend's weight of new light (1 - λ_incr): in the steady state Σ_m λ^m times the light
@@ -192,7 +192,7 @@ impl LpvSettings {
 }
 
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuNeighbour {
     transfer: [f32; 4],
     offset: [i32; 3],
@@ -200,77 +200,68 @@ struct GpuNeighbour {
 }
 
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuFace {
     evaluation: [f32; 4],
     lobe: [f32; 4],
 }
 
 #[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuAxis {
     offset: [i32; 4],
     blocking_transfer: [f32; 4],
     faces: [GpuFace; 5],
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct RsmPush {
-    view_projection: [[f32; 4]; 4],
-    light_position: [f32; 4],
-    view: u32,
-    size: u32,
+crate::push_constants! {
+    struct InjectPush {
+        origin_cell: [f32; 4],
+        dims: [i32; 4],
+        layers: u32,
+        offset: f32,
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct InjectPush {
-    origin_cell: [f32; 4],
-    dims: [i32; 4],
-    layers: u32,
-    offset: f32,
+crate::push_constants! {
+    struct MergePush {
+        cells: u32,
+        previous_factor: f32,
+        current_factor: f32,
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct MergePush {
-    cells: u32,
-    previous_factor: f32,
-    current_factor: f32,
+crate::push_constants! {
+    struct CountPush {
+        count: u32,
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct CountPush {
-    count: u32,
+crate::push_constants! {
+    struct IlpvPush {
+        dims: [i32; 4],
+        keep: f32,
+        scatter_energy: f32,
+        use_blocking: f32,
+        accumulate: u32,
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct IlpvPush {
-    dims: [i32; 4],
-    keep: f32,
-    scatter_energy: f32,
-    use_blocking: f32,
-    accumulate: u32,
+crate::push_constants! {
+    struct LpvPush {
+        dims: [i32; 4],
+        use_blocking: f32,
+    }
 }
 
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct LpvPush {
-    dims: [i32; 4],
-    use_blocking: f32,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct LookupPush {
-    origin_cell: [f32; 4],
-    dims: [i32; 4],
-    size: [u32; 2],
-    scale: f32,
-    offset: f32,
+crate::push_constants! {
+    struct LookupPush {
+        origin_cell: [f32; 4],
+        dims: [i32; 4],
+        size: [u32; 2],
+        scale: f32,
+        offset: f32,
+    }
 }
 
 /// Workgroup tiles the tiled kernels try, largest first; the first whose halo-padded light and
@@ -300,16 +291,8 @@ pub fn choose_tile(shared_bytes: u32, max_invocations: u32) -> Option<[u32; 3]> 
     })
 }
 
+/// The colour channels: the method's independent parts.
 const CHANNELS: [&str; 3] = ["R", "G", "B"];
-
-/// Pass names, built once so recording allocates nothing per step.
-struct PassNames {
-    rsm: Vec<String>,
-    merge: [String; 3],
-    compensate: Vec<[String; 3]>,
-    propagate: Vec<[String; 3]>,
-    accumulate: [String; 3],
-}
 
 pub struct Lpv {
     pub settings: LpvSettings,
@@ -317,16 +300,12 @@ pub struct Lpv {
     pub transfer: TransferVectors,
     /// The workgroup tile of the propagation kernel (tiled: the shared-memory tile).
     pub tile: [u32; 3],
-    rsm_pipeline: RasterPipeline,
     inject_pipeline: ComputePipeline,
     merge_pipeline: ComputePipeline,
     compensate_pipeline: ComputePipeline,
     propagate_pipeline: ComputePipeline,
     lookup_pipeline: ComputePipeline,
-    rsm_position: Image,
-    rsm_normal: Image,
-    rsm_flux: Image,
-    rsm_depth: Image,
+    rsm: Rsm,
     /// Two lattices per channel, ping-ponged.
     lattices: [[Buffer; 2]; 3],
     /// The sum of the steps the lookup reads, per channel.
@@ -342,15 +321,17 @@ pub struct Lpv {
     current: usize,
     pending_result: usize,
     frames: u64,
+    /// Frames since the lights last changed (for the convergence of the ILPV blend).
+    frames_since_change: u64,
     /// Emitted flux of the lights at the last frame (E in the ILPV blend).
     previous_energy: f64,
     energy: f64,
-    names: PassNames,
     device_shared_bytes: u32,
 }
 
 impl Lpv {
-    pub fn new(gpu: &Gpu, scene: &Scene, settings: LpvSettings) -> anyhow::Result<Lpv> {
+    pub fn new(setup: &Setup, settings: LpvSettings) -> anyhow::Result<Lpv> {
+        let (gpu, scene) = (setup.gpu, setup.scene);
         settings.validate()?;
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
         let cells = lattice.cell_count();
@@ -367,14 +348,17 @@ impl Lpv {
                 "LPV injection needs float atomics (VK_EXT_shader_atomic_float), which this device lacks"
             );
         }
+        (setup.progress)("transfer vectors", 0.0);
         let transfer = TransferVectors::compute(TRANSFER_SAMPLES, TRANSFER_SEED);
         let faces = FaceScheme::compute();
         let strength = f64::from(settings.blocking_strength);
+        (setup.progress)("geometry lattice", 0.5);
         let geometry_cells: Vec<DVec4> =
             geometry::build(&scene.mesh, &lattice, &transfer, settings.blocking_lobe)
                 .into_iter()
                 .map(|c| c * strength)
                 .collect();
+        (setup.progress)("geometry lattice", 1.0);
 
         let shared = gpu.info.max_shared_memory_bytes;
         let (tile, propagate_spirv) = match (settings.scheme, settings.tiled) {
@@ -384,13 +368,13 @@ impl Lpv {
                         anyhow::anyhow!("no propagation tile fits {shared} bytes of shared memory")
                     })?;
                 let spirv = match scheme {
-                    Scheme::Ilpv => shaders::LPV_ILPV_TILED_COMP,
-                    Scheme::Lpv => shaders::LPV_LPV_TILED_COMP,
+                    Scheme::Ilpv => shaders::GI_LPV_ILPV_TILED_COMP,
+                    Scheme::Lpv => shaders::GI_LPV_LPV_TILED_COMP,
                 };
                 (tile, spirv)
             }
-            (Scheme::Ilpv, false) => (NAIVE_GROUP, shaders::LPV_ILPV_NAIVE_COMP),
-            (Scheme::Lpv, false) => (NAIVE_GROUP, shaders::LPV_LPV_NAIVE_COMP),
+            (Scheme::Ilpv, false) => (NAIVE_GROUP, shaders::GI_LPV_ILPV_NAIVE_COMP),
+            (Scheme::Lpv, false) => (NAIVE_GROUP, shaders::GI_LPV_LPV_NAIVE_COMP),
         };
         let mut spec = Specialization::new()
             .with_u32(0, tile[0])
@@ -405,40 +389,7 @@ impl Lpv {
             Scheme::Lpv => "lpv propagation",
         };
         let propagate_pipeline = ComputePipeline::new(gpu, propagate_name, propagate_spirv, &spec)?;
-        let rsm_pipeline = RasterPipeline::new(
-            gpu,
-            &RasterPipelineDesc {
-                name: "rsm",
-                vertex: shaders::RASTER_GBUFFER_VERT,
-                fragment: Some(shaders::LPV_RSM_FRAG),
-                color_formats: &[
-                    vk::Format::R32G32B32A32_SFLOAT,
-                    vk::Format::R16G16B16A16_SFLOAT,
-                    vk::Format::R32G32B32A32_SFLOAT,
-                ],
-                depth_format: Some(vk::Format::D32_SFLOAT),
-                depth_bias: None,
-            },
-        )?;
-
-        let views = scene.lights.iter().map(|l| match l.kind {
-            crate::scene::LightKind::Spot { .. } => 1,
-            crate::scene::LightKind::Point => 6,
-        });
-        let layers = views.sum::<u32>().max(1);
-        let rsm_image = |name, format| {
-            gpu.create_image(&ImageDesc {
-                layers,
-                array: true,
-                ..ImageDesc::new_2d(
-                    name,
-                    format,
-                    settings.rsm,
-                    settings.rsm,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
-                )
-            })
-        };
+        let rsm = Rsm::new(gpu, scene, settings.rsm)?;
         let lattice_buffer =
             |name: String| gpu.create_buffer(&BufferDesc::storage(&name, (cells * 16) as u64));
         let channel_pair = |c: usize| -> GpuResult<[Buffer; 2]> {
@@ -489,47 +440,31 @@ impl Lpv {
             })
             .collect();
 
-        let names = PassNames {
-            rsm: (0..layers).map(|v| format!("rsm view {v}")).collect(),
-            merge: CHANNELS.map(|c| format!("merge {c}")),
-            compensate: (0..settings.iterations)
-                .map(|s| CHANNELS.map(|c| format!("compensate {c} step {}", s + 1)))
-                .collect(),
-            propagate: (0..settings.iterations)
-                .map(|s| CHANNELS.map(|c| format!("propagate {c} step {}", s + 1)))
-                .collect(),
-            accumulate: CHANNELS.map(|c| format!("accumulate {c}")),
-        };
         Ok(Lpv {
             lattice,
             transfer,
             tile,
-            rsm_pipeline,
-            inject_pipeline: ComputePipeline::new(gpu, "inject", shaders::LPV_INJECT_COMP, &none)?,
-            merge_pipeline: ComputePipeline::new(gpu, "merge", shaders::LPV_MERGE_COMP, &none)?,
+            inject_pipeline: ComputePipeline::new(
+                gpu,
+                "inject",
+                shaders::GI_LPV_INJECT_COMP,
+                &none,
+            )?,
+            merge_pipeline: ComputePipeline::new(gpu, "merge", shaders::GI_LPV_MERGE_COMP, &none)?,
             compensate_pipeline: ComputePipeline::new(
                 gpu,
                 "compensate",
-                shaders::LPV_COMPENSATE_COMP,
+                shaders::GI_LPV_COMPENSATE_COMP,
                 &none,
             )?,
             propagate_pipeline,
             lookup_pipeline: ComputePipeline::new(
                 gpu,
                 "lpv lookup",
-                shaders::LPV_LOOKUP_COMP,
+                shaders::GI_LPV_LOOKUP_COMP,
                 &none,
             )?,
-            rsm_position: rsm_image("rsm position", vk::Format::R32G32B32A32_SFLOAT)?,
-            rsm_normal: rsm_image("rsm normal", vk::Format::R16G16B16A16_SFLOAT)?,
-            rsm_flux: rsm_image("rsm flux", vk::Format::R32G32B32A32_SFLOAT)?,
-            rsm_depth: gpu.create_image(&ImageDesc::new_2d(
-                "rsm depth",
-                vk::Format::D32_SFLOAT,
-                settings.rsm,
-                settings.rsm,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-            ))?,
+            rsm,
             lattices,
             accumulation,
             lookup_scale: 1.0,
@@ -541,13 +476,13 @@ impl Lpv {
             current: 0,
             pending_result: 0,
             frames: 0,
+            frames_since_change: 0,
             previous_energy: 0.0,
             energy: scene
                 .lights
                 .iter()
                 .map(|l| f64::from(l.flux) * f64::from(l.color.element_sum()) / 3.0)
                 .sum(),
-            names,
             device_shared_bytes: shared,
             settings,
         })
@@ -605,39 +540,6 @@ impl Lpv {
         )
     }
 
-    fn record_rsm(&self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()> {
-        let s = &frame.scene;
-        for (view, matrix) in s.shadow_view_matrices.iter().enumerate() {
-            let push = RsmPush {
-                view_projection: matrix.to_cols_array_2d(),
-                light_position: s.shadow_view_origins[view].extend(1.0).to_array(),
-                view: view as u32,
-                size: self.settings.rsm,
-            };
-            let layer = view as u32;
-            rec.raster(&RasterPass {
-                name: &self.names.rsm[view],
-                pipeline: &self.rsm_pipeline,
-                bindings: &[
-                    Binding::read(ids::RASTER_VERTICES, &s.vertices),
-                    Binding::read(ids::RASTER_TRIANGLE_MATERIALS, &s.triangle_materials),
-                    Binding::read(ids::RSM_MATERIALS, &s.materials),
-                    Binding::read(ids::RSM_LIGHTS, &s.lights),
-                    Binding::read(ids::RSM_VIEWS, &s.shadow_views),
-                ],
-                push: bytemuck::bytes_of(&push),
-                color: &[
-                    (&self.rsm_position, layer, [0.0; 4]),
-                    (&self.rsm_normal, layer, [0.0; 4]),
-                    (&self.rsm_flux, layer, [0.0; 4]),
-                ],
-                depth: Some((&self.rsm_depth, 0)),
-                vertex_count: s.vertex_count,
-            })?;
-        }
-        Ok(())
-    }
-
     fn dims(&self) -> [i32; 4] {
         let d = self.lattice.dims.as_ivec3();
         [d.x, d.y, d.z, 0]
@@ -661,14 +563,14 @@ impl Lpv {
             name: "inject",
             pipeline: &self.inject_pipeline,
             bindings: &[
-                Binding::image_read(ids::INJECT_RSM_POSITION, &self.rsm_position),
-                Binding::image_read(ids::INJECT_RSM_NORMAL, &self.rsm_normal),
-                Binding::image_read(ids::INJECT_RSM_FLUX, &self.rsm_flux),
+                Binding::image_read(ids::INJECT_RSM_POSITION, &self.rsm.position),
+                Binding::image_read(ids::INJECT_RSM_NORMAL, &self.rsm.normal),
+                Binding::image_read(ids::INJECT_RSM_FLUX, &self.rsm.flux),
                 Binding::write(ids::INJECT_LATTICE_R, r),
                 Binding::write(ids::INJECT_LATTICE_G, g),
                 Binding::write(ids::INJECT_LATTICE_B, b),
             ],
-            push: bytemuck::bytes_of(&push),
+            push: &push,
             threads: [self.settings.rsm, self.settings.rsm, views],
         })
     }
@@ -691,13 +593,13 @@ impl Lpv {
                 current_factor,
             };
             rec.compute(&ComputePass {
-                name: &self.names.merge[channel],
+                name: "merge",
                 pipeline: &self.merge_pipeline,
                 bindings: &[
                     Binding::write(ids::MERGE_CURRENT, &pair[current]),
                     Binding::read(ids::MERGE_PREVIOUS, &pair[1 - current]),
                 ],
-                push: bytemuck::bytes_of(&push),
+                push: &push,
                 threads: [cells, 1, 1],
             })?;
         }
@@ -712,85 +614,94 @@ impl Lpv {
         channel: usize,
         current: usize,
     ) -> GpuResult<usize> {
-        let cells = self.lattice.cell_count() as u32;
         let pair = &self.lattices[channel];
         if !self.reads_final() {
             let acc = &self.accumulation[channel];
-            rec.copy_buffer(
-                &self.names.accumulate[channel],
-                &pair[current],
-                acc,
-                acc.size,
-            );
+            rec.copy_buffer("accumulate", &pair[current], acc, acc.size);
         }
         let (absorption, scattering) = self.settings.medium(self.lattice.cell_size);
-        let d = self.lattice.dims;
         let mut src = current;
         for step in 0..self.settings.iterations as usize {
-            let use_blocking = if step == 0 && self.settings.first_step_unblocked {
-                0.0
-            } else {
-                1.0
-            };
-            match self.settings.scheme {
-                Scheme::Ilpv => {
-                    if self.settings.clamp_compensation {
-                        rec.compute(&ComputePass {
-                            name: &self.names.compensate[step][channel],
-                            pipeline: &self.compensate_pipeline,
-                            bindings: &[
-                                Binding::write(ids::COMPENSATE_CELLS, &pair[src]),
-                                Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours),
-                            ],
-                            push: bytemuck::bytes_of(&CountPush { count: cells }),
-                            threads: [cells, 1, 1],
-                        })?;
-                    }
-                    let push = IlpvPush {
-                        dims: self.dims(),
-                        keep: (1.0 - absorption - scattering) as f32,
-                        scatter_energy: (sh::SQRT_PI_2 * scattering) as f32,
-                        use_blocking,
-                        accumulate: u32::from(self.accumulates(step)),
-                    };
-                    rec.compute(&ComputePass {
-                        name: &self.names.propagate[step][channel],
-                        pipeline: &self.propagate_pipeline,
-                        bindings: &[
-                            Binding::read(ids::ILPV_SOURCE, &pair[src]),
-                            Binding::write(ids::ILPV_DESTINATION, &pair[1 - src]),
-                            Binding::read(ids::ILPV_GEOMETRY, &self.geometry),
-                            Binding::uniform(ids::ILPV_NEIGHBOURS, &self.neighbours),
-                            Binding::write(ids::ILPV_ACCUMULATION, &self.accumulation[channel]),
-                        ],
-                        push: bytemuck::bytes_of(&push),
-                        threads: self.dispatch_threads([d.x, d.y, d.z]),
-                    })?;
-                }
-                Scheme::Lpv => {
-                    let acc = &self.accumulation[channel];
-                    let push = LpvPush {
-                        dims: self.dims(),
-                        use_blocking,
-                    };
-                    rec.compute(&ComputePass {
-                        name: &self.names.propagate[step][channel],
-                        pipeline: &self.propagate_pipeline,
-                        bindings: &[
-                            Binding::read(ids::LPV_SOURCE, &pair[src]),
-                            Binding::write(ids::LPV_DESTINATION, &pair[1 - src]),
-                            Binding::write(ids::LPV_ACCUMULATION, acc),
-                            Binding::read(ids::LPV_GEOMETRY, &self.geometry),
-                            Binding::uniform(ids::LPV_AXES, &self.axes),
-                        ],
-                        push: bytemuck::bytes_of(&push),
-                        threads: self.dispatch_threads([d.x, d.y, d.z]),
-                    })?;
-                }
-            }
+            rec.in_step(step as u32 + 1, |rec| {
+                self.record_step(rec, channel, step, src, (absorption, scattering))
+            })?;
             src = 1 - src;
         }
         Ok(src)
+    }
+
+    /// One propagation step of one channel from lattice `src` into the other.
+    fn record_step(
+        &self,
+        rec: &mut Recorder,
+        channel: usize,
+        step: usize,
+        src: usize,
+        (absorption, scattering): (f64, f64),
+    ) -> GpuResult<()> {
+        let cells = self.lattice.cell_count() as u32;
+        let pair = &self.lattices[channel];
+        let d = self.lattice.dims;
+        let use_blocking = if step == 0 && self.settings.first_step_unblocked {
+            0.0
+        } else {
+            1.0
+        };
+        match self.settings.scheme {
+            Scheme::Ilpv => {
+                if self.settings.clamp_compensation {
+                    rec.compute(&ComputePass {
+                        name: "compensate",
+                        pipeline: &self.compensate_pipeline,
+                        bindings: &[
+                            Binding::write(ids::COMPENSATE_CELLS, &pair[src]),
+                            Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours),
+                        ],
+                        push: &CountPush { count: cells },
+                        threads: [cells, 1, 1],
+                    })?;
+                }
+                let push = IlpvPush {
+                    dims: self.dims(),
+                    keep: (1.0 - absorption - scattering) as f32,
+                    scatter_energy: (sh::SQRT_PI_2 * scattering) as f32,
+                    use_blocking,
+                    accumulate: u32::from(self.accumulates(step)),
+                };
+                rec.compute(&ComputePass {
+                    name: PROPAGATE,
+                    pipeline: &self.propagate_pipeline,
+                    bindings: &[
+                        Binding::read(ids::ILPV_SOURCE, &pair[src]),
+                        Binding::write(ids::ILPV_DESTINATION, &pair[1 - src]),
+                        Binding::read(ids::ILPV_GEOMETRY, &self.geometry),
+                        Binding::uniform(ids::ILPV_NEIGHBOURS, &self.neighbours),
+                        Binding::write(ids::ILPV_ACCUMULATION, &self.accumulation[channel]),
+                    ],
+                    push: &push,
+                    threads: self.dispatch_threads([d.x, d.y, d.z]),
+                })
+            }
+            Scheme::Lpv => {
+                let push = LpvPush {
+                    dims: self.dims(),
+                    use_blocking,
+                };
+                rec.compute(&ComputePass {
+                    name: PROPAGATE,
+                    pipeline: &self.propagate_pipeline,
+                    bindings: &[
+                        Binding::read(ids::LPV_SOURCE, &pair[src]),
+                        Binding::write(ids::LPV_DESTINATION, &pair[1 - src]),
+                        Binding::write(ids::LPV_ACCUMULATION, &self.accumulation[channel]),
+                        Binding::read(ids::LPV_GEOMETRY, &self.geometry),
+                        Binding::uniform(ids::LPV_AXES, &self.axes),
+                    ],
+                    push: &push,
+                    threads: self.dispatch_threads([d.x, d.y, d.z]),
+                })
+            }
+        }
     }
 
     /// Replace the contents of the R, G, B lattices that propagation starts from (tests and
@@ -811,8 +722,12 @@ impl Lpv {
     /// Propagate the loaded lattices `settings.iterations` steps (no RSM, injection or blend).
     pub fn record_propagation(&mut self, rec: &mut Recorder) -> GpuResult<()> {
         let mut result = 0;
-        for channel in 0..3 {
-            result = self.record_channel_steps(rec, channel, 0)?;
+        for (channel, label) in CHANNELS.into_iter().enumerate() {
+            let part = Part {
+                index: channel as u32,
+                label,
+            };
+            result = rec.in_part(part, |rec| self.record_channel_steps(rec, channel, 0))?;
         }
         self.result = result;
         Ok(())
@@ -833,9 +748,22 @@ impl Lpv {
     }
 }
 
-impl Technique for Lpv {
-    fn record_light(&mut self, rec: &mut Recorder, frame: &Frame) -> GpuResult<()> {
-        let views = frame.scene.shadow_view_matrices.len() as u32;
+/// The name of the propagation pass (the method's core pass in the profile).
+const PROPAGATE: &str = "propagate";
+
+impl GiMethod for Lpv {
+    fn name(&self) -> &'static str {
+        match self.settings.scheme {
+            Scheme::Lpv => "lpv",
+            Scheme::Ilpv => "ilpv",
+        }
+    }
+
+    fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        if ctx.changes.lights {
+            self.frames_since_change = 0;
+        }
+        let views = ctx.scene.shadow_view_matrices.len() as u32;
         // This frame's light goes into the lattice that does not hold last frame's result.
         self.current = if self.settings.scheme == Scheme::Ilpv {
             1 - self.result
@@ -844,25 +772,31 @@ impl Technique for Lpv {
         };
         self.pending_result = self.current;
         if views > 0 {
-            self.record_rsm(rec, frame)?;
+            self.rsm.record(rec, ctx)?;
         }
         self.record_inject(rec, self.current, views)
     }
 
-    fn record_channel(&mut self, rec: &mut Recorder, channel: usize) -> GpuResult<()> {
-        self.pending_result = self.merge_and_propagate(rec, channel, self.current)?;
+    fn parts(&self) -> &'static [&'static str] {
+        &CHANNELS
+    }
+
+    fn record_part(&mut self, rec: &mut Recorder, _ctx: &FrameContext, part: usize) -> GpuResult<()> {
+        self.pending_result = self.merge_and_propagate(rec, part, self.current)?;
         Ok(())
     }
 
-    fn light_recorded(&mut self) {
+    fn light_done(&mut self, _ctx: &FrameContext) {
         // This frame's light becomes "last frame's".
         self.lookup_scale = self.frame_lookup_scale(self.blend_weights().1);
         self.result = self.pending_result;
         self.previous_energy = self.energy;
         self.frames += 1;
+        self.frames_since_change += 1;
     }
 
-    fn record_lookup(&self, rec: &mut Recorder, view: &View) -> GpuResult<()> {
+    fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
+        let view = &ctx.views[view];
         let [r, g, b] = self.result_lattices();
         let o = self.lattice.origin;
         let cell = self.lattice.cell_size;
@@ -886,11 +820,30 @@ impl Technique for Lpv {
                 Binding::read(ids::LOOKUP_LATTICE_B, b),
                 Binding::image_write(ids::LOOKUP_HDR, &view.hdr),
             ],
-            push: bytemuck::bytes_of(&push),
+            push: &push,
             threads: [view.width(), view.height(), 1],
         })
     }
 
+    /// ILPV blends old light away by λ per frame: the weight of light from before the last
+    /// change is λ^frames.
+    fn convergence(&self) -> Option<Convergence> {
+        (self.settings.scheme == Scheme::Ilpv).then(|| Convergence {
+            measure: "weight of light from before the last change",
+            remaining: f64::from(self.settings.incremental)
+                .powi(self.frames_since_change.min(i32::MAX as u64) as i32),
+        })
+    }
+
+    fn core_pass(&self) -> Option<CorePass> {
+        Some(CorePass {
+            pass: PROPAGATE,
+            unit: "cell",
+            units: self.lattice.cell_count(),
+            bytes_per_unit: cost::bytes_per_cell(self.settings.scheme, true),
+            flops_per_unit: cost::flops_per_cell(self.settings.scheme),
+        })
+    }
     fn describe(&self) -> Vec<String> {
         let d = self.lattice.dims;
         let kernel = if self.settings.tiled {

@@ -11,7 +11,7 @@
 
 use glam::{DVec3, DVec4, IVec3};
 
-use super::sh;
+use crate::gi::shared::sh;
 
 /// One of the 26 neighbours.
 #[derive(Clone, Copy, Debug)]

@@ -4,8 +4,8 @@
 // cosine lobe toward the surface, SH_cos(-n), turned into radiance by the cell area and added,
 // times albedo / pi, to the HDR image.
 #include "common/math.glsl"
-#include "common/sh.glsl"
-#include "common/lattice.glsl"
+#include "gi/shared/sh.glsl"
+#include "gi/lpv/lattice.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 

@@ -30,7 +30,7 @@ layout(push_constant) uniform Push {
     float use_blocking;
 } pc;
 
-#include "common/lpv_tile.glsl"
+#include "gi/lpv/tile.glsl"
 
 void main() {
     prepare_sources();

@@ -4,8 +4,8 @@
 // atomics. src/gi/lpv/cpu.rs inject is the same in f64.
 #extension GL_EXT_shader_atomic_float : require
 #include "common/math.glsl"
-#include "common/sh.glsl"
-#include "common/lattice.glsl"
+#include "gi/shared/sh.glsl"
+#include "gi/lpv/lattice.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 

@@ -1,4 +1,4 @@
 #version 460
 // 26-neighbour ILPV step, sources read straight from global memory (for comparison).
 #define LPV_TILED 0
-#include "common/lpv_ilpv_step.glsl"
+#include "gi/lpv/ilpv_step.glsl"

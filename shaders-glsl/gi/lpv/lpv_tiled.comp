@@ -1,4 +1,4 @@
 #version 460
 // Classic 6-neighbour LPV step, sources from a shared-memory tile.
 #define LPV_TILED 1
-#include "common/lpv_kd10_step.glsl"
+#include "gi/lpv/kd10_step.glsl"

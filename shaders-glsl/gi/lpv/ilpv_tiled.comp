@@ -1,4 +1,4 @@
 #version 460
 // 26-neighbour ILPV step, sources from a shared-memory tile.
 #define LPV_TILED 1
-#include "common/lpv_ilpv_step.glsl"
+#include "gi/lpv/ilpv_step.glsl"

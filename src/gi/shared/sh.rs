@@ -1,7 +1,7 @@
 //! Two-band spherical harmonics in the convention of seed 000 (Kaplanyan/Engel/Dachsbacher):
 //! coefficients (Y00, Y1-1, Y10, Y11) with the Condon–Shortley sign folded in, so a function's
 //! SH vector evaluates as `c · basis(ω)` and the clamped-cosine lobe around n is
-//! `(c0, -c1 n_y, c1 n_z, -c1 n_x)`. The same functions exist in shaders-glsl/common/sh.glsl.
+//! `(c0, -c1 n_y, c1 n_z, -c1 n_x)`. The same functions exist in shaders-glsl/gi/shared/sh.glsl.
 
 use glam::{DVec3, DVec4};
 

@@ -9,7 +9,7 @@
 // with z innermost and padded by Z_PAD cells: neighbouring threads differ in x, so the pad makes
 // their stride odd and spreads them over the banks (the thesis's CUDA kernel: padding z, and
 // only z, removed the bank conflicts).
-#include "common/lattice.glsl"
+#include "gi/lpv/lattice.glsl"
 
 #if LPV_TILED
 layout(constant_id = 3) const uint Z_PAD = 1u;

@@ -27,7 +27,7 @@ layout(push_constant) uniform Push {
     uint accumulate;       // 1: also add the result to the accumulation lattice
 } pc;
 
-#include "common/lpv_tile.glsl"
+#include "gi/lpv/tile.glsl"
 
 // The d-th of the 26 offsets in {-1,0,1}³ without the centre, x fastest (transfer.rs offsets).
 ivec3 neighbour_offset(int d) {

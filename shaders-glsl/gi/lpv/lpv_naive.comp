@@ -1,4 +1,4 @@
 #version 460
 // Classic 6-neighbour LPV step, sources read straight from global memory (for comparison).
 #define LPV_TILED 0
-#include "common/lpv_kd10_step.glsl"
+#include "gi/lpv/kd10_step.glsl"

@@ -1,0 +1,56 @@
+//! CPU set-up costs, with criterion: LPV's transfer vectors and geometry (blocking) lattice,
+//! and the path tracer's BVH, on the built-in scenes.
+//!
+//! cargo bench --bench setup
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use vkgi::gi::lpv::geometry::{self, BlockingLobe};
+use vkgi::gi::lpv::lattice::Lattice;
+use vkgi::gi::lpv::transfer::TransferVectors;
+use vkgi::scene::Scene;
+use vkgi::scene::bvh::Bvh;
+
+fn scene(name: &str) -> Scene {
+    match Scene::load(name) {
+        Ok(scene) => scene,
+        Err(e) => panic!("{name}: {e}"),
+    }
+}
+
+fn transfer_vectors(c: &mut Criterion) {
+    c.bench_function("transfer vectors (20000 samples per neighbour)", |b| {
+        b.iter(|| TransferVectors::compute(20_000, 0x000c_0ffe_e000))
+    });
+}
+
+fn geometry_lattice(c: &mut Criterion) {
+    let transfer = TransferVectors::compute(20_000, 0x000c_0ffe_e000);
+    for name in ["cornell", "two-rooms"] {
+        let scene = scene(name);
+        for cells in [10, 32] {
+            let lattice = match Lattice::fit(scene.bounds_min, scene.bounds_max, cells) {
+                Ok(l) => l,
+                Err(e) => panic!("{e}"),
+            };
+            c.bench_function(&format!("geometry lattice {name} {cells}"), |b| {
+                b.iter(|| geometry::build(&scene.mesh, &lattice, &transfer, BlockingLobe::TwoSided))
+            });
+        }
+    }
+}
+
+fn bvh(c: &mut Criterion) {
+    for name in ["cornell", "two-rooms"] {
+        let scene = scene(name);
+        c.bench_function(&format!("bvh {name}"), |b| {
+            b.iter(|| Bvh::build(&scene.mesh))
+        });
+    }
+}
+
+criterion_group! {
+    name = setup;
+    config = Criterion::default().sample_size(10);
+    targets = transfer_vectors, geometry_lattice, bvh
+}
+criterion_main!(setup);

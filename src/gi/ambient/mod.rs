@@ -1,0 +1,228 @@
+//! `ambient`, the baseline every method must beat: indirect light = albedo × E / π with one
+//! constant irradiance E per colour channel, either given (`--ambient-irradiance R,G,B`) or
+//! fitted by least squares to a path-traced image of the scene's indirect light (an oracle: the
+//! best any constant can do). The fit uses the caller's reference when there is one (the
+//! report's), else a small path-traced one of its own, redone whenever the lights change.
+
+pub mod bindings;
+pub mod fit;
+
+use glam::Vec3;
+
+use crate::error::InputError;
+use crate::gi::registry::{MethodEntry, Setup};
+use crate::gi::settings::{Kind, Setting, Settings};
+use crate::gi::{FrameContext, GiMethod};
+use crate::gpu::{
+    Binding, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Recorder, Specialization,
+};
+use crate::reference::{Bounces, PathTracer, ReferenceSettings};
+use crate::scene::Scene;
+use crate::scene::bvh::Bvh;
+use crate::shaders;
+use bindings as ids;
+
+/// Size of the path-traced image the fit uses when the caller gives no reference.
+const FIT_SIZE: (u32, u32) = (64, 48);
+/// Largest irradiance a user may give per channel.
+const MAX_IRRADIANCE: f32 = 1e30;
+
+const SETTINGS: &[Setting] = &[
+    Setting::new(
+        "ambient-irradiance",
+        Kind::Text,
+        "fit",
+        "The constant irradiance E as R,G,B (W/m²), or 'fit': least squares against a path-traced reference's indirect light",
+    ),
+    Setting::new(
+        "ambient-spp",
+        Kind::Int { min: 1, max: 65536 },
+        "16",
+        "Samples per pixel of the 64x48 path-traced image the fit uses when there is no reference",
+    ),
+];
+
+pub const METHODS: &[MethodEntry] = &[MethodEntry {
+    name: "ambient",
+    description: "the baseline: albedo times one constant irradiance per channel, fitted to the path tracer (an oracle) or given",
+    default: false,
+    settings: SETTINGS,
+    settle_frames: |_| 1,
+    profile_axis: None,
+    create: |setup, settings| Ok(Box::new(Ambient::new(setup, settings)?)),
+}];
+
+crate::push_constants! {
+    struct AmbientPush {
+        irradiance: [f32; 4],
+        size: [u32; 2],
+    }
+}
+
+/// How E is found.
+enum Source {
+    Given,
+    /// Fitted to a path-traced image of the scene camera, refitted when the lights change.
+    Fit(Box<Fitter>),
+}
+
+/// What a refit needs: the scene (its lights replaced by the frame's), a path tracer and the
+/// albedo each pixel of its image sees.
+struct Fitter {
+    scene: Scene,
+    tracer: PathTracer,
+    settings: ReferenceSettings,
+    albedo: Vec<[f32; 3]>,
+}
+
+impl Fitter {
+    fn fit(&mut self, gpu: &Gpu) -> anyhow::Result<Vec3> {
+        let images = self.tracer.render(gpu, &self.settings, |_, _| {})?;
+        Ok(fit::fit_irradiance(&self.albedo, &images.indirect))
+    }
+}
+
+pub struct Ambient {
+    /// Irradiance per channel (W/m²).
+    pub irradiance: Vec3,
+    source: Source,
+    pipeline: ComputePipeline,
+}
+
+impl Ambient {
+    pub fn new(setup: &Setup, settings: &Settings) -> anyhow::Result<Ambient> {
+        let gpu = setup.gpu;
+        let pipeline = ComputePipeline::new(
+            gpu,
+            "ambient",
+            shaders::GI_AMBIENT_LOOKUP_COMP,
+            &Specialization::new(),
+        )?;
+        let text = settings.text("ambient-irradiance")?;
+        if !text.eq_ignore_ascii_case("fit") {
+            return Ok(Ambient {
+                irradiance: parse_irradiance(text)?,
+                source: Source::Given,
+                pipeline,
+            });
+        }
+        let bvh = Bvh::build(&setup.scene.mesh);
+        if let Some(reference) = setup.reference {
+            let truth = &reference.indirect;
+            let albedo = fit::albedo_image(setup.scene, &bvh, truth.width, truth.height);
+            return Ok(Ambient {
+                irradiance: fit::fit_irradiance(&albedo, truth),
+                source: Source::Given,
+                pipeline,
+            });
+        }
+        (setup.progress)("fitting the ambient term to a path-traced image", 0.0);
+        let (width, height) = FIT_SIZE;
+        let mut fitter = Fitter {
+            albedo: fit::albedo_image(setup.scene, &bvh, width, height),
+            tracer: PathTracer::new(gpu, setup.scene, width, height)?,
+            scene: setup.scene.clone(),
+            settings: ReferenceSettings {
+                width,
+                height,
+                spp: settings.u32("ambient-spp")?,
+                bounces: Bounces::Limited(1),
+                seed: 1,
+            },
+        };
+        let irradiance = fitter.fit(gpu)?;
+        (setup.progress)("fitting the ambient term to a path-traced image", 1.0);
+        Ok(Ambient {
+            irradiance,
+            source: Source::Fit(Box::new(fitter)),
+            pipeline,
+        })
+    }
+}
+
+/// "R,G,B" as a finite, non-negative irradiance.
+fn parse_irradiance(text: &str) -> Result<Vec3, InputError> {
+    let bad = || {
+        InputError::new(format!(
+            "--ambient-irradiance {text}: expected 'fit' or R,G,B with three numbers in [0, {MAX_IRRADIANCE:e}]"
+        ))
+    };
+    let values: Vec<f32> = text
+        .split(',')
+        .map(|v| v.trim().parse::<f32>().map_err(|_| bad()))
+        .collect::<Result<_, _>>()?;
+    match values[..] {
+        [r, g, b] if values.iter().all(|v| v.is_finite() && (0.0..=MAX_IRRADIANCE).contains(v)) => {
+            Ok(Vec3::new(r, g, b))
+        }
+        _ => Err(bad()),
+    }
+}
+
+impl GiMethod for Ambient {
+    fn name(&self) -> &'static str {
+        "ambient"
+    }
+
+    /// Refit when the lights changed (the first frame's lights are those of the set-up fit).
+    fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        let Source::Fit(fitter) = &mut self.source else {
+            return Ok(());
+        };
+        if ctx.frame == 0 || !ctx.changes.lights {
+            return Ok(());
+        }
+        fitter.scene.lights = ctx.lights.to_vec();
+        fitter.tracer.set_lights(rec.gpu(), &fitter.scene)?;
+        self.irradiance = fitter
+            .fit(rec.gpu())
+            .map_err(|e| GpuError::Setup(format!("refitting the ambient term: {e:#}")))?;
+        Ok(())
+    }
+
+    fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
+        let view = &ctx.views[view];
+        let push = AmbientPush {
+            irradiance: self.irradiance.extend(0.0).to_array(),
+            size: [view.width(), view.height()],
+        };
+        rec.compute(&ComputePass {
+            name: "ambient",
+            pipeline: &self.pipeline,
+            bindings: &[
+                Binding::image_read(ids::AMBIENT_GBUFFER_POSITION, &view.gbuffer.position),
+                Binding::image_read(ids::AMBIENT_GBUFFER_ALBEDO, &view.gbuffer.albedo),
+                Binding::image_write(ids::AMBIENT_HDR, &view.hdr),
+            ],
+            push: &push,
+            threads: [view.width(), view.height(), 1],
+        })
+    }
+
+    fn describe(&self) -> Vec<String> {
+        let source = match &self.source {
+            Source::Given => "given or fitted to the caller's reference".to_string(),
+            Source::Fit(f) => format!(
+                "fitted to a {}x{} path-traced image at {} spp, one bounce",
+                f.settings.width, f.settings.height, f.settings.spp
+            ),
+        };
+        vec![format!(
+            "ambient: irradiance E = ({:.6}, {:.6}, {:.6}) W/m², {source}",
+            self.irradiance.x, self.irradiance.y, self.irradiance.z
+        )]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn given_irradiance_must_be_three_finite_non_negative_numbers() {
+        assert_eq!(parse_irradiance("1, 2,3").ok(), Some(Vec3::new(1.0, 2.0, 3.0)));
+        for bad in ["1,2", "1,2,3,4", "a,b,c", "NaN,1,1", "-1,0,0", "1e39,0,0", ""] {
+            assert!(parse_irradiance(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,39 @@
+//! Binding numbers of the LPV passes, seen only by shaders-glsl/gi/lpv/ (build.rs reads them
+//! from here).
+
+crate::shared_constants! {
+    // ---- injection ----
+    INJECT_RSM_POSITION: u32 = 0;
+    INJECT_RSM_NORMAL: u32 = 1;
+    INJECT_RSM_FLUX: u32 = 2;
+    INJECT_LATTICE_R: u32 = 3;
+    INJECT_LATTICE_G: u32 = 4;
+    INJECT_LATTICE_B: u32 = 5;
+
+    // ---- ILPV merge and clamp compensation ----
+    MERGE_CURRENT: u32 = 0;
+    MERGE_PREVIOUS: u32 = 1;
+    COMPENSATE_CELLS: u32 = 0;
+    COMPENSATE_NEIGHBOURS: u32 = 1;
+
+    // ---- propagation: 26-neighbour ILPV and 6-neighbour LPV ----
+    ILPV_SOURCE: u32 = 0;
+    ILPV_DESTINATION: u32 = 1;
+    ILPV_GEOMETRY: u32 = 2;
+    ILPV_NEIGHBOURS: u32 = 3;
+    ILPV_ACCUMULATION: u32 = 4;
+    LPV_SOURCE: u32 = 0;
+    LPV_DESTINATION: u32 = 1;
+    LPV_ACCUMULATION: u32 = 2;
+    LPV_GEOMETRY: u32 = 3;
+    LPV_AXES: u32 = 4;
+
+    // ---- lookup ----
+    LOOKUP_GBUFFER_POSITION: u32 = 0;
+    LOOKUP_GBUFFER_NORMAL: u32 = 1;
+    LOOKUP_GBUFFER_ALBEDO: u32 = 2;
+    LOOKUP_LATTICE_R: u32 = 3;
+    LOOKUP_LATTICE_G: u32 = 4;
+    LOOKUP_LATTICE_B: u32 = 5;
+    LOOKUP_HDR: u32 = 6;
+}

@@ -1,0 +1,280 @@
+//! LPV and ILPV as registered methods: their settings as data (flags, viewer keys, report
+//! sweeps), how many frames they need to settle, and their constructors.
+
+use super::geometry::BlockingLobe;
+use super::technique::{self as t, Extinction, IlpvLookup, Lpv, LpvSettings, Scheme};
+use crate::error::InputError;
+use crate::gi::GiMethod;
+use crate::gi::registry::{MethodEntry, Setup};
+use crate::gi::settings::{Kind, Setting, Settings};
+
+const LATTICE: Setting = Setting::new(
+    "lattice",
+    Kind::Int {
+        min: 1,
+        max: super::lattice::MAX_CELLS as i64,
+    },
+    "10",
+    "Lattice cells along the scene's longest axis (other axes: as many as the bounds need)",
+)
+.keys('[', ']', 2.0)
+.sweep(&["8", "16", "32"]);
+const ITERATIONS: Setting = Setting::new(
+    "iterations",
+    Kind::Int { min: 0, max: 4096 },
+    "8",
+    "Propagation steps per frame",
+)
+.keys(',', '.', 1.0)
+.sweep(&["4", "8", "16", "32"]);
+const INCREMENTAL: Setting = Setting::new(
+    "incremental",
+    Kind::Float {
+        min: 0.0,
+        max: 0.999,
+    },
+    "0.5",
+    "λ_incr: weight of last frame's propagated light (0 = plain propagation)",
+)
+.keys('-', '=', 0.05)
+.sweep(&["0.5", "0.9"]);
+const RSM: Setting = Setting::new(
+    "rsm",
+    Kind::Int { min: 8, max: 2048 },
+    "256",
+    "Reflective-shadow-map resolution per light view",
+);
+const ABSORPTION: Setting = Setting::new(
+    "absorption",
+    Kind::Float { min: 0.0, max: 1e6 },
+    "0",
+    "Absorption coefficient σa of the medium (at most 1 with --extinction thesis)",
+);
+const SCATTERING: Setting = Setting::new(
+    "scattering",
+    Kind::Float { min: 0.0, max: 1e6 },
+    "0",
+    "Scattering coefficient σs of the medium (at most 1 with --extinction thesis)",
+);
+const EXTINCTION: Setting = Setting::new(
+    "extinction",
+    Kind::Choice(&["thesis", "physical"]),
+    "thesis",
+    "How σ becomes a per-step probability: thesis (σ^d̄) or physical (1 - exp(-σ d̄))",
+);
+const BLOCKING_LOBE: Setting = Setting::new(
+    "blocking-lobe",
+    Kind::Choice(&["two-sided", "front", "back", "none"]),
+    "two-sided",
+    "The SH lobe a surface sample adds to the geometry (blocking) lattice",
+);
+const BLOCKING_STRENGTH: Setting = Setting::new(
+    "blocking-strength",
+    Kind::Float {
+        min: 0.0,
+        max: 16.0,
+    },
+    "1",
+    "Scale of the geometry lattice (1: a surface filling a cell blocks a face transfer fully)",
+);
+const BLOCK_FIRST_STEP: Setting = Setting::new(
+    "block-first-step",
+    Kind::Flag,
+    "",
+    "Apply blocking in the first step of a frame too (the thesis leaves it out)",
+);
+const NAIVE: Setting = Setting::new(
+    "naive",
+    Kind::Flag,
+    "",
+    "Use the naive global-memory propagation kernel instead of the shared-memory tiled one",
+);
+const NO_CLAMP_COMPENSATION: Setting = Setting::new(
+    "no-clamp-compensation",
+    Kind::Flag,
+    "",
+    "Propagate with the thesis's global κ only, without per-cell clamp compensation",
+);
+const INJECT_OFFSET: Setting = Setting::new(
+    "inject-offset",
+    Kind::Float {
+        min: -8.0,
+        max: 8.0,
+    },
+    "0.5",
+    "Cells VPLs move along their normal before injection (the thesis: 0.5)",
+);
+const LOOKUP_OFFSET: Setting = Setting::new(
+    "lookup-offset",
+    Kind::Float {
+        min: -8.0,
+        max: 8.0,
+    },
+    "1",
+    "Cells the lookup moves along the surface normal (the thesis: 0.5; default from the accuracy grid in docs/lpv.md)",
+);
+const ILPV_LOOKUP: Setting = Setting::new(
+    "ilpv-lookup",
+    Kind::Choice(&["accumulated", "final"]),
+    "accumulated",
+    "What the ILPV lookup reads: the accumulated steps, or the thesis's final lattice",
+);
+
+const ILPV_SETTINGS: &[Setting] = &[
+    LATTICE,
+    ITERATIONS,
+    INCREMENTAL,
+    RSM,
+    ABSORPTION,
+    SCATTERING,
+    EXTINCTION,
+    BLOCKING_LOBE,
+    BLOCKING_STRENGTH,
+    BLOCK_FIRST_STEP,
+    NAIVE,
+    NO_CLAMP_COMPENSATION,
+    INJECT_OFFSET,
+    LOOKUP_OFFSET,
+    ILPV_LOOKUP,
+];
+const LPV_SETTINGS: &[Setting] = &[
+    LATTICE,
+    ITERATIONS,
+    RSM,
+    BLOCKING_LOBE,
+    BLOCKING_STRENGTH,
+    BLOCK_FIRST_STEP,
+    NAIVE,
+    INJECT_OFFSET,
+    LOOKUP_OFFSET,
+];
+
+/// ILPV (the default method) and classic LPV.
+pub const METHODS: &[MethodEntry] = &[
+    MethodEntry {
+        name: "ilpv",
+        description: "seed 000's incremental light propagation volumes (26 neighbours, blended across frames)",
+        default: true,
+        settings: ILPV_SETTINGS,
+        settle_frames: ilpv_settle_frames,
+        profile_axis: Some("lattice"),
+        create: create_ilpv,
+    },
+    MethodEntry {
+        name: "lpv",
+        description: "classic light propagation volumes (Kaplanyan & Dachsbacher: 6 neighbours, 5 faces)",
+        default: false,
+        settings: LPV_SETTINGS,
+        settle_frames: |_| 1,
+        profile_axis: Some("lattice"),
+        create: create_lpv,
+    },
+];
+
+/// Frames until the blend has settled: λ^(frames-1) < 1% (at least 4).
+fn ilpv_settle_frames(settings: &Settings) -> u32 {
+    settle_frames(settings.float("incremental").unwrap_or(0.0))
+}
+
+/// Frames until light from before a change weighs less than 1%: λ^(frames-1) < 0.01.
+pub fn settle_frames(incremental: f64) -> u32 {
+    if incremental <= 0.0 {
+        return 4;
+    }
+    ((0.01f64.ln() / incremental.ln()).ceil() as u32 + 1).max(4)
+}
+
+fn create_ilpv(setup: &Setup, settings: &Settings) -> anyhow::Result<Box<dyn GiMethod>> {
+    Ok(Box::new(Lpv::new(setup, lpv_settings(Scheme::Ilpv, settings)?)?))
+}
+
+fn create_lpv(setup: &Setup, settings: &Settings) -> anyhow::Result<Box<dyn GiMethod>> {
+    Ok(Box::new(Lpv::new(setup, lpv_settings(Scheme::Lpv, settings)?)?))
+}
+
+/// The typed settings of `scheme` from the registry's values (settings the scheme does not
+/// declare keep their defaults).
+pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputError> {
+    let defaults = LpvSettings::default();
+    let float_or = |name: &str, default: f32| -> Result<f32, InputError> {
+        if s.has(name) {
+            Ok(s.float(name)? as f32)
+        } else {
+            Ok(default)
+        }
+    };
+    let flag = |name: &str| -> Result<bool, InputError> {
+        if s.has(name) { s.flag(name) } else { Ok(false) }
+    };
+    let extinction = match s.has("extinction").then(|| s.text("extinction")).transpose()? {
+        Some("physical") => Extinction::Physical,
+        _ => Extinction::Thesis,
+    };
+    let blocking_lobe = match s.text("blocking-lobe")? {
+        "front" => BlockingLobe::Front,
+        "back" => BlockingLobe::Back,
+        "none" => BlockingLobe::None,
+        _ => BlockingLobe::TwoSided,
+    };
+    let ilpv_lookup = match s.has("ilpv-lookup").then(|| s.text("ilpv-lookup")).transpose()? {
+        Some("final") => IlpvLookup::Final,
+        _ => IlpvLookup::Accumulated,
+    };
+    Ok(LpvSettings {
+        scheme,
+        lattice: s.u32("lattice")?,
+        iterations: s.u32("iterations")?,
+        incremental: match scheme {
+            Scheme::Ilpv => float_or("incremental", t::DEFAULT_INCREMENTAL)?,
+            Scheme::Lpv => 0.0,
+        },
+        rsm: s.u32("rsm")?,
+        absorption: float_or("absorption", defaults.absorption)?,
+        scattering: float_or("scattering", defaults.scattering)?,
+        extinction,
+        blocking_lobe,
+        blocking_strength: float_or("blocking-strength", defaults.blocking_strength)?,
+        first_step_unblocked: !flag("block-first-step")?,
+        tiled: !flag("naive")?,
+        clamp_compensation: !flag("no-clamp-compensation")?,
+        ilpv_lookup,
+        inject_offset: float_or("inject-offset", defaults.inject_offset)?,
+        lookup_offset: float_or("lookup-offset", defaults.lookup_offset)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn registered_defaults_are_the_technique_defaults() {
+        for (entry, scheme) in METHODS.iter().zip([Scheme::Ilpv, Scheme::Lpv]) {
+            let settings = match Settings::defaults(entry.settings) {
+                Ok(s) => s,
+                Err(e) => panic!("{e}"),
+            };
+            let typed = match lpv_settings(scheme, &settings) {
+                Ok(s) => s,
+                Err(e) => panic!("{e}"),
+            };
+            let expected = LpvSettings {
+                scheme,
+                incremental: if scheme == Scheme::Ilpv {
+                    t::DEFAULT_INCREMENTAL
+                } else {
+                    0.0
+                },
+                ..LpvSettings::default()
+            };
+            assert_eq!(format!("{typed:?}"), format!("{expected:?}"));
+        }
+    }
+
+    #[test]
+    fn ilpv_runs_until_the_blend_settles() {
+        assert_eq!(settle_frames(0.0), 4);
+        assert_eq!(settle_frames(0.5), 8);
+        assert!(0.9f64.powi(settle_frames(0.9) as i32 - 1) < 0.01);
+    }
+}

@@ -1,0 +1,10 @@
+//! Binding numbers of the passes in src/gi/shared/, seen by every shader under
+//! shaders-glsl/gi/ (build.rs reads them from here).
+
+crate::shared_constants! {
+    // ---- reflective shadow maps (shaders-glsl/gi/shared/rsm.frag; the vertex stage is the
+    // G-buffer's, bound with RASTER_VERTICES and RASTER_TRIANGLE_MATERIALS) ----
+    RSM_MATERIALS: u32 = 2;
+    RSM_LIGHTS: u32 = 3;
+    RSM_VIEWS: u32 = 4;
+}

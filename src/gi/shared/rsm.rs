@@ -1,0 +1,126 @@
+//! Reflective shadow maps (Dachsbacher & Stamminger 2005): per light view, the world position,
+//! normal and reflected flux of what the light sees, one layer per shadow view of the scene.
+
+use ash::vk;
+
+use super::bindings as ids;
+use crate::gi::FrameContext;
+use crate::gpu::{
+    Binding, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc,
+    Recorder,
+};
+use crate::scene::Scene;
+use crate::shader_shared::{RASTER_TRIANGLE_MATERIALS, RASTER_VERTICES};
+use crate::shaders;
+
+crate::push_constants! {
+    struct RsmPush {
+        view_projection: [[f32; 4]; 4],
+        light_position: [f32; 4],
+        view: u32,
+        size: u32,
+    }
+}
+
+/// The RSM of every shadow view: layered position, normal and flux images.
+pub struct Rsm {
+    pipeline: RasterPipeline,
+    /// Texels along each side of a layer.
+    pub size: u32,
+    /// Layers (shadow views: one per spot light, six per point light; at least one).
+    pub layers: u32,
+    pub position: Image,
+    pub normal: Image,
+    pub flux: Image,
+    depth: Image,
+}
+
+impl Rsm {
+    pub fn new(gpu: &Gpu, scene: &Scene, size: u32) -> GpuResult<Rsm> {
+        let pipeline = RasterPipeline::new(
+            gpu,
+            &RasterPipelineDesc {
+                name: "rsm",
+                vertex: shaders::RASTER_GBUFFER_VERT,
+                fragment: Some(shaders::GI_SHARED_RSM_FRAG),
+                color_formats: &[
+                    vk::Format::R32G32B32A32_SFLOAT,
+                    vk::Format::R16G16B16A16_SFLOAT,
+                    vk::Format::R32G32B32A32_SFLOAT,
+                ],
+                depth_format: Some(vk::Format::D32_SFLOAT),
+                depth_bias: None,
+            },
+        )?;
+        let layers = scene
+            .lights
+            .iter()
+            .map(|l| l.shadow_view_count())
+            .sum::<u32>()
+            .max(1);
+        let layered = |name, format| {
+            gpu.create_image(&ImageDesc {
+                layers,
+                array: true,
+                ..ImageDesc::new_2d(
+                    name,
+                    format,
+                    size,
+                    size,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
+                )
+            })
+        };
+        Ok(Rsm {
+            pipeline,
+            size,
+            layers,
+            position: layered("rsm position", vk::Format::R32G32B32A32_SFLOAT)?,
+            normal: layered("rsm normal", vk::Format::R16G16B16A16_SFLOAT)?,
+            flux: layered("rsm flux", vk::Format::R32G32B32A32_SFLOAT)?,
+            depth: gpu.create_image(&ImageDesc::new_2d(
+                "rsm depth",
+                vk::Format::D32_SFLOAT,
+                size,
+                size,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            ))?,
+        })
+    }
+
+    /// Render every shadow view's layer ("rsm view N").
+    pub fn record(&self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        let s = ctx.scene;
+        for (view, matrix) in s.shadow_view_matrices.iter().enumerate() {
+            let push = RsmPush {
+                view_projection: matrix.to_cols_array_2d(),
+                light_position: s.shadow_view_origins[view].extend(1.0).to_array(),
+                view: view as u32,
+                size: self.size,
+            };
+            let layer = view as u32;
+            rec.in_layer(layer, |rec| {
+                rec.raster(&RasterPass {
+                    name: "rsm",
+                    pipeline: &self.pipeline,
+                    bindings: &[
+                        Binding::read(RASTER_VERTICES, &s.vertices),
+                        Binding::read(RASTER_TRIANGLE_MATERIALS, &s.triangle_materials),
+                        Binding::read(ids::RSM_MATERIALS, &s.materials),
+                        Binding::read(ids::RSM_LIGHTS, &s.lights),
+                        Binding::read(ids::RSM_VIEWS, &s.shadow_views),
+                    ],
+                    push: &push,
+                    color: &[
+                        (&self.position, layer, [0.0; 4]),
+                        (&self.normal, layer, [0.0; 4]),
+                        (&self.flux, layer, [0.0; 4]),
+                    ],
+                    depth: Some((&self.depth, 0)),
+                    vertex_count: s.vertex_count,
+                })
+            })?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,199 @@
+//! The frame's own passes: shadow maps, the G-buffer, deferred direct lighting and tone mapping.
+//! src/render/frame.rs calls them in order; GI methods add theirs between them.
+
+use ash::vk;
+
+use super::targets::{GBUFFER_FORMATS, View};
+use crate::gpu::{
+    Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, RasterPass, RasterPipeline,
+    RasterPipelineDesc, Recorder, Sampler, Specialization,
+};
+use crate::scene::gpu::SceneBuffers;
+use crate::shader_shared as ids;
+use crate::shaders;
+
+crate::push_constants! {
+    struct GBufferPush {
+        view_projection: [[f32; 4]; 4],
+        camera_position: [f32; 4],
+    }
+}
+
+crate::push_constants! {
+    struct ShadowPush {
+        view_projection: [[f32; 4]; 4],
+    }
+}
+
+crate::push_constants! {
+    struct LightingPush {
+        size: [u32; 2],
+        light_count: u32,
+        include_direct: u32,
+    }
+}
+
+crate::push_constants! {
+    struct TonemapPush {
+        size: [u32; 2],
+        exposure_scale: f32,
+    }
+}
+
+/// The pipelines of the frame's own passes.
+pub struct ScenePasses {
+    shadow: RasterPipeline,
+    gbuffer: RasterPipeline,
+    lighting: ComputePipeline,
+    tonemap: ComputePipeline,
+}
+
+impl ScenePasses {
+    pub fn new(gpu: &Gpu) -> GpuResult<ScenePasses> {
+        let none = Specialization::new();
+        Ok(ScenePasses {
+            shadow: RasterPipeline::new(
+                gpu,
+                &RasterPipelineDesc {
+                    name: "shadow map",
+                    vertex: shaders::RASTER_SHADOW_VERT,
+                    fragment: None,
+                    color_formats: &[],
+                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth_bias: Some((1.25, 1.75)),
+                },
+            )?,
+            gbuffer: RasterPipeline::new(
+                gpu,
+                &RasterPipelineDesc {
+                    name: "g-buffer",
+                    vertex: shaders::RASTER_GBUFFER_VERT,
+                    fragment: Some(shaders::RASTER_GBUFFER_FRAG),
+                    color_formats: &GBUFFER_FORMATS,
+                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth_bias: None,
+                },
+            )?,
+            lighting: ComputePipeline::new(
+                gpu,
+                "direct lighting",
+                shaders::RASTER_LIGHTING_COMP,
+                &none,
+            )?,
+            tonemap: ComputePipeline::new(gpu, "tone map", shaders::RASTER_TONEMAP_COMP, &none)?,
+        })
+    }
+
+    /// Shadow maps: one depth layer per shadow view.
+    pub fn record_shadows(
+        &self,
+        rec: &mut Recorder,
+        scene: &SceneBuffers,
+        shadow_map: &Image,
+    ) -> GpuResult<()> {
+        for (layer, view_projection) in scene.shadow_view_matrices.iter().enumerate() {
+            let push = ShadowPush {
+                view_projection: view_projection.to_cols_array_2d(),
+            };
+            rec.raster(&RasterPass {
+                name: "shadow map",
+                pipeline: &self.shadow,
+                bindings: &[Binding::read(ids::RASTER_VERTICES, &scene.vertices)],
+                push: &push,
+                color: &[],
+                depth: Some((shadow_map, layer as u32)),
+                vertex_count: scene.vertex_count,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// A view's G-buffer from its eye.
+    pub fn record_gbuffer(
+        &self,
+        rec: &mut Recorder,
+        scene: &SceneBuffers,
+        view: &View,
+    ) -> GpuResult<()> {
+        let push = GBufferPush {
+            view_projection: view.eye.view_projection.to_cols_array_2d(),
+            camera_position: view.eye.position.extend(1.0).to_array(),
+        };
+        let g = &view.gbuffer;
+        rec.raster(&RasterPass {
+            name: "g-buffer",
+            pipeline: &self.gbuffer,
+            bindings: &[
+                Binding::read(ids::RASTER_VERTICES, &scene.vertices),
+                Binding::read(ids::RASTER_TRIANGLE_MATERIALS, &scene.triangle_materials),
+                Binding::read(ids::RASTER_MATERIALS, &scene.materials),
+            ],
+            push: &push,
+            color: &[
+                (&g.position, 0, [0.0; 4]),
+                (&g.normal, 0, [0.0; 4]),
+                (&g.albedo, 0, [0.0; 4]),
+                (&g.emission, 0, [0.0; 4]),
+            ],
+            depth: Some((&g.depth, 0)),
+            vertex_count: scene.vertex_count,
+        })
+    }
+
+    /// Direct light and emission (or, when `include_direct` is false, black) into a view's
+    /// HDR image.
+    pub fn record_direct_lighting(
+        &self,
+        rec: &mut Recorder,
+        scene: &SceneBuffers,
+        shadows: (&Image, &Sampler),
+        view: &View,
+        include_direct: bool,
+    ) -> GpuResult<()> {
+        let g = &view.gbuffer;
+        let push = LightingPush {
+            size: [view.width(), view.height()],
+            light_count: scene.light_count,
+            include_direct: u32::from(include_direct),
+        };
+        rec.compute(&ComputePass {
+            name: "direct lighting",
+            pipeline: &self.lighting,
+            bindings: &[
+                Binding::image_read(ids::LIGHTING_GBUFFER_POSITION, &g.position),
+                Binding::image_read(ids::LIGHTING_GBUFFER_NORMAL, &g.normal),
+                Binding::image_read(ids::LIGHTING_GBUFFER_ALBEDO, &g.albedo),
+                Binding::image_read(ids::LIGHTING_GBUFFER_EMISSION, &g.emission),
+                Binding::sampled(ids::LIGHTING_SHADOW_MAP, shadows.0, shadows.1),
+                Binding::read(ids::LIGHTING_LIGHTS, &scene.lights),
+                Binding::read(ids::LIGHTING_SHADOW_VIEWS, &scene.shadow_views),
+                Binding::image_write(ids::LIGHTING_HDR_OUT, &view.hdr),
+            ],
+            push: &push,
+            threads: [view.width(), view.height(), 1],
+        })
+    }
+
+    /// Exposure, tone mapping and sRGB encoding into a view's 8-bit output.
+    pub fn record_tonemap(
+        &self,
+        rec: &mut Recorder,
+        view: &View,
+        exposure_ev: f32,
+    ) -> GpuResult<()> {
+        let push = TonemapPush {
+            size: [view.width(), view.height()],
+            exposure_scale: exposure_ev.exp2(),
+        };
+        rec.compute(&ComputePass {
+            name: "tone map",
+            pipeline: &self.tonemap,
+            bindings: &[
+                Binding::image_read(ids::TONEMAP_HDR_IN, &view.hdr),
+                Binding::image_write(ids::TONEMAP_LDR_OUT, &view.ldr),
+            ],
+            push: &push,
+            threads: [view.width(), view.height(), 1],
+        })
+    }
+}

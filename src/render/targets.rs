@@ -1,0 +1,110 @@
+//! What a frame renders into: eyes, views and their G-buffers. These sit below the GI methods
+//! (src/gi/), which read a view's G-buffer and add to its HDR image.
+
+use ash::vk;
+use glam::{Mat4, Vec3};
+
+use crate::error::InputError;
+use crate::gpu::{Gpu, GpuResult, Image, ImageDesc};
+use crate::scene::{Camera, Scene};
+
+/// Largest image side vkgi renders (also bounded by the device's limit).
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+/// Formats of the G-buffer's colour attachments: position, normal, albedo, emission.
+pub const GBUFFER_FORMATS: [vk::Format; 4] = [
+    vk::Format::R32G32B32A32_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
+];
+
+/// The attachments the G-buffer pass writes and lighting passes read.
+pub struct GBuffer {
+    /// xyz world position, w = 1 where a surface was hit, 0 for background.
+    pub position: Image,
+    /// xyz unit normal facing the camera.
+    pub normal: Image,
+    pub albedo: Image,
+    pub emission: Image,
+    pub depth: Image,
+}
+
+/// Where a view looks from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Eye {
+    /// World to clip space (Vulkan: depth 0..1, y down).
+    pub view_projection: Mat4,
+    pub position: Vec3,
+}
+
+impl Eye {
+    /// The eye of a pinhole camera for an image of `width` x `height`, with clip planes that
+    /// enclose the scene.
+    pub fn from_camera(camera: &Camera, scene: &Scene, width: u32, height: u32) -> Eye {
+        let aspect = width as f32 / height.max(1) as f32;
+        Eye {
+            view_projection: camera.view_projection(aspect, scene.bounds_min, scene.bounds_max),
+            position: camera.position,
+        }
+    }
+}
+
+/// One view of the frame: its eye, G-buffer and output images.
+pub struct View {
+    pub eye: Eye,
+    pub gbuffer: GBuffer,
+    /// Linear HDR radiance (the image every error metric is computed on).
+    pub hdr: Image,
+    /// Tone-mapped, sRGB-encoded 8-bit output.
+    pub ldr: Image,
+}
+
+impl View {
+    /// A view's G-buffer and images of `width` x `height`.
+    pub fn new(gpu: &Gpu, width: u32, height: u32, eye: Eye) -> GpuResult<View> {
+        let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT
+            | vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::TRANSFER_SRC;
+        let image = |name: &str, format: vk::Format, usage: vk::ImageUsageFlags| {
+            gpu.create_image(&ImageDesc::new_2d(name, format, width, height, usage))
+        };
+        let gbuffer = GBuffer {
+            position: image("g-buffer position", GBUFFER_FORMATS[0], attachment)?,
+            normal: image("g-buffer normal", GBUFFER_FORMATS[1], attachment)?,
+            albedo: image("g-buffer albedo", GBUFFER_FORMATS[2], attachment)?,
+            emission: image("g-buffer emission", GBUFFER_FORMATS[3], attachment)?,
+            depth: image(
+                "g-buffer depth",
+                vk::Format::D32_SFLOAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            )?,
+        };
+        let storage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
+        Ok(View {
+            eye,
+            gbuffer,
+            hdr: image("hdr radiance", vk::Format::R32G32B32A32_SFLOAT, storage)?,
+            ldr: image("ldr output", vk::Format::R8G8B8A8_UNORM, storage)?,
+        })
+    }
+
+    pub fn width(&self) -> u32 {
+        self.hdr.width()
+    }
+
+    pub fn height(&self) -> u32 {
+        self.hdr.height()
+    }
+}
+
+/// Check an image size against vkgi's and the device's limits.
+pub fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), InputError> {
+    let limit = MAX_IMAGE_SIDE.min(gpu.info.max_image_dimension_2d);
+    if width == 0 || height == 0 || width > limit || height > limit {
+        return Err(InputError::new(format!(
+            "image size {width}x{height} is out of range: each side must be 1..={limit}"
+        )));
+    }
+    Ok(())
+}

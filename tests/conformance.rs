@@ -1,0 +1,279 @@
+//! The invariants every registered GI method must keep, checked over the registry: a method
+//! added to src/gi/mod.rs gets these tests without writing them. Each runs headless at a small
+//! size on lavapipe with the validation layers on, with the method at its default settings and
+//! for as many frames as it declares it needs to settle.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+use vkgi::gi::GiMethod;
+use vkgi::gi::registry::{self, MethodEntry, Setup};
+use vkgi::gpu::frames::FrameRing;
+use vkgi::gpu::{Gpu, Stage};
+use vkgi::render::runner::run_frames;
+use vkgi::render::{Eye, Frame, FrameOptions};
+use vkgi::scene::Scene;
+use vkgi::view::cave::Cave;
+
+mod common;
+
+const SIZE: (u32, u32) = (32, 24);
+
+fn options(indirect_only: bool) -> FrameOptions {
+    FrameOptions {
+        width: SIZE.0,
+        height: SIZE.1,
+        shadow_map_size: 256,
+        indirect_only,
+        ..FrameOptions::default()
+    }
+}
+
+fn build(gpu: &Gpu, scene: &Scene, entry: &MethodEntry) -> Box<dyn GiMethod> {
+    let settings = entry
+        .settings(&[])
+        .unwrap_or_else(|e| panic!("{}: {e}", entry.name));
+    let method = entry
+        .create(&Setup::new(gpu, scene), &settings)
+        .unwrap_or_else(|e| panic!("{}: {e:#}", entry.name));
+    assert_eq!(method.name(), entry.name, "registered name");
+    method
+}
+
+fn settle_frames(entry: &MethodEntry) -> u32 {
+    let settings = entry.settings(&[]).expect("default settings");
+    (entry.settle_frames)(&settings)
+}
+
+/// The first view's HDR pixels after the method's settle frames (or none for `None`).
+fn render(
+    gpu: &Gpu,
+    scene: &Scene,
+    entry: Option<&MethodEntry>,
+    indirect_only: bool,
+) -> Vec<[f32; 3]> {
+    let mut frame = Frame::new(gpu, scene, options(indirect_only)).expect("frame");
+    match entry {
+        Some(entry) => {
+            let mut method = build(gpu, scene, entry);
+            run_frames(
+                gpu,
+                &mut frame,
+                Some(method.as_mut()),
+                0,
+                settle_frames(entry),
+            )
+            .expect("frames");
+        }
+        None => {
+            run_frames(gpu, &mut frame, None, 0, 1).expect("frame");
+        }
+    }
+    frame.read_hdr(gpu).expect("readback")
+}
+
+fn with_flux(scene: &Scene, scale: f32) -> Scene {
+    let mut scaled = scene.clone();
+    for light in &mut scaled.lights {
+        light.flux *= scale;
+    }
+    scaled
+}
+
+fn max_abs(pixels: &[[f32; 3]]) -> f32 {
+    pixels.iter().flatten().fold(0.0f32, |m, v| m.max(v.abs()))
+}
+
+fn mean_abs_difference(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..3).map(move |c| f64::from((p[c] - q[c]).abs())))
+        .sum();
+    sum / (3 * a.len()) as f64
+}
+
+#[test]
+fn every_method_renders_both_scenes_finite_and_lit() {
+    let gpu = common::gpu();
+    for scene_name in ["cornell", "two-rooms"] {
+        let scene = Scene::load(scene_name).unwrap();
+        for entry in registry::methods() {
+            let image = render(&gpu, &scene, Some(entry), true);
+            assert!(
+                image.iter().flatten().all(|v| v.is_finite()),
+                "{} on {scene_name}: non-finite indirect light",
+                entry.name
+            );
+            assert!(
+                max_abs(&image) > 0.0,
+                "{} on {scene_name}: no indirect light at all",
+                entry.name
+            );
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn zero_flux_gives_exactly_zero_and_indirect_light_is_linear_in_flux() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    for entry in registry::methods() {
+        let dark = render(&gpu, &with_flux(&scene, 0.0), Some(entry), true);
+        assert!(
+            dark.iter().flatten().all(|&v| v == 0.0),
+            "{}: zero flux left {} as the brightest indirect value",
+            entry.name,
+            max_abs(&dark)
+        );
+        let unit = render(&gpu, &scene, Some(entry), true);
+        let brightest = max_abs(&unit);
+        assert!(brightest > 0.0, "{}: no indirect light", entry.name);
+        for scale in [1e-6f32, 1e6] {
+            let scaled = render(&gpu, &with_flux(&scene, scale), Some(entry), true);
+            let worst = scaled
+                .iter()
+                .zip(&unit)
+                .flat_map(|(s, u)| (0..3).map(move |c| (s[c] / scale - u[c]).abs()))
+                .fold(0.0f32, f32::max);
+            assert!(
+                worst <= 1e-4 * brightest,
+                "{}: flux × {scale:e} is not linear: off by {worst:e} of {brightest:e}",
+                entry.name
+            );
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn indirect_only_images_hold_no_direct_light() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let direct = render(&gpu, &scene, None, false);
+    for entry in registry::methods() {
+        let full = render(&gpu, &scene, Some(entry), false);
+        let indirect = render(&gpu, &scene, Some(entry), true);
+        let brightest = max_abs(&full);
+        let worst = full
+            .iter()
+            .zip(&direct)
+            .zip(&indirect)
+            .flat_map(|((f, d), i)| (0..3).map(move |c| (f[c] - d[c] - i[c]).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst <= 1e-4 * brightest,
+            "{}: indirect-only differs from full minus direct by {worst:e} of {brightest:e}",
+            entry.name
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn a_moved_light_is_followed_within_the_declared_settle_frames() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let extent = (scene.bounds_max - scene.bounds_min).length();
+    let mut moved = scene.clone();
+    moved.lights[0].position += Vec3::new(0.15 * extent, 0.0, 0.05 * extent);
+    for entry in registry::methods() {
+        let frames = settle_frames(entry);
+        let fresh = render(&gpu, &moved, Some(entry), true);
+        let mut frame = Frame::new(&gpu, &scene, options(true)).unwrap();
+        let mut method = build(&gpu, &scene, entry);
+        run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, frames).unwrap();
+        let before = frame.read_hdr(&gpu).unwrap();
+        frame.set_lights(&moved);
+        run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, frames).unwrap();
+        let after = frame.read_hdr(&gpu).unwrap();
+        let change = mean_abs_difference(&before, &fresh);
+        let lag = mean_abs_difference(&after, &fresh);
+        assert!(
+            change > 0.0,
+            "{}: moving the light changed nothing",
+            entry.name
+        );
+        assert!(
+            lag <= 0.05 * change,
+            "{}: {frames} frames after the move, {lag:e} from the settled image (the move changed it by {change:e})",
+            entry.name
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// Runs of each (stage, pass) of `method` per frame.
+fn runs_per_frame(ring: &FrameRing, method: &str) -> HashMap<(Stage, &'static str), f64> {
+    let samples = ring.profiler.samples();
+    let frames = samples
+        .iter()
+        .map(|s| s.frame)
+        .collect::<std::collections::HashSet<_>>()
+        .len()
+        .max(1) as f64;
+    let mut runs = HashMap::new();
+    for s in samples.iter().filter(|s| s.tag.method == Some(method)) {
+        *runs.entry((s.tag.stage, s.tag.pass)).or_insert(0.0) += 1.0 / frames;
+    }
+    runs
+}
+
+#[test]
+fn the_profile_names_every_method_pass_and_the_cave_shares_its_light() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let cave = Cave::placed(&scene, 0.2, Vec3::new(0.2, 0.1, 0.3));
+    let walls: Vec<Eye> = cave.eyes(&scene);
+    for entry in registry::methods() {
+        let frames = settle_frames(entry).max(2);
+        let single = {
+            let mut frame = Frame::new(&gpu, &scene, options(true)).unwrap();
+            let mut method = build(&gpu, &scene, entry);
+            run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, frames).unwrap()
+        };
+        let four = {
+            let mut frame = Frame::with_eyes(&gpu, &scene, options(true), &walls).unwrap();
+            let mut method = build(&gpu, &scene, entry);
+            run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, frames).unwrap()
+        };
+        for s in single.profiler.samples() {
+            let gi = matches!(
+                s.tag.stage,
+                Stage::GiView | Stage::GiLight | Stage::GiPart | Stage::GiLookup
+            );
+            assert_eq!(
+                gi,
+                s.tag.method == Some(entry.name),
+                "{}: pass '{}' in stage {:?} is tagged {:?}",
+                entry.name,
+                s.name,
+                s.tag.stage,
+                s.tag.method
+            );
+        }
+        let (one, cave) = (
+            runs_per_frame(&single, entry.name),
+            runs_per_frame(&four, entry.name),
+        );
+        assert!(
+            !one.is_empty(),
+            "{}: no pass tagged with the method",
+            entry.name
+        );
+        for (&(stage, pass), &n) in &one {
+            let expected = match stage {
+                Stage::GiView | Stage::GiLookup => 4.0 * n,
+                _ => n,
+            };
+            let got = cave.get(&(stage, pass)).copied().unwrap_or(0.0);
+            assert!(
+                (got - expected).abs() < 1e-9,
+                "{}: '{pass}' ({stage:?}) runs {got} times per CAVE frame, {n} with one view",
+                entry.name
+            );
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
