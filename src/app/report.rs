@@ -451,7 +451,8 @@ fn write_plots(dir: &Path, report: &Report) -> anyhow::Result<()> {
     let front = pareto_front(&all);
     let series = row_methods(report)
         .into_iter()
-        .map(|method| {
+        .enumerate()
+        .map(|(colour, method)| {
             let idx: Vec<usize> = (0..report.rows.len())
                 .filter(|&i| report.rows[i].method == method)
                 .collect();
@@ -460,6 +461,7 @@ fn write_plots(dir: &Path, report: &Report) -> anyhow::Result<()> {
                 points: idx.iter().map(|&i| all[i]).collect(),
                 marked: idx.iter().map(|&i| front[i]).collect(),
                 connect: false,
+                colour,
             }
         })
         .collect();
@@ -476,7 +478,7 @@ fn write_plots(dir: &Path, report: &Report) -> anyhow::Result<()> {
 
     let mut series = Vec::new();
     let mut units_name = "unit";
-    for method in row_methods(report) {
+    for (colour, method) in row_methods(report).into_iter().enumerate() {
         let mut by_units: Vec<(usize, Vec<f64>)> = Vec::new();
         for core in report
             .rows
@@ -506,6 +508,7 @@ fn write_plots(dir: &Path, report: &Report) -> anyhow::Result<()> {
                 .collect(),
             marked: Vec::new(),
             connect: true,
+            colour,
         });
     }
     let plot = Plot {

@@ -36,6 +36,8 @@ pub struct Series {
     pub marked: Vec<bool>,
     /// Join the points with a line, in order.
     pub connect: bool,
+    /// Index into [`PALETTE`] (wrapping), so a method keeps its colour across plots.
+    pub colour: usize,
 }
 
 pub struct Plot {
@@ -73,6 +75,20 @@ fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     }
 }
 
+/// A tick label with three significant digits and no trailing zeros.
+fn significant(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let decimals = (2 - v.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("drawing a plot: {e:?}")
 }
@@ -100,16 +116,23 @@ impl Plot {
                 .y_label_area_size(72)
                 .build_cartesian_2d(x.log_scale(), y.log_scale())
                 .map_err(plot_error)?;
+            let tick = |v: &f64| significant(*v);
             chart
                 .configure_mesh()
                 .x_desc(self.x_label.as_str())
                 .y_desc(self.y_label.as_str())
+                .x_labels(6)
+                .y_labels(6)
+                .x_label_formatter(&tick)
+                .y_label_formatter(&tick)
+                .light_line_style(RGBColor(240, 240, 240))
+                .bold_line_style(RGBColor(200, 200, 200))
                 .label_style((FAMILY, 13))
                 .axis_desc_style((FAMILY, 15))
                 .draw()
                 .map_err(plot_error)?;
-            for (k, series) in self.series.iter().enumerate() {
-                let colour = PALETTE[k % PALETTE.len()];
+            for series in &self.series {
+                let colour = PALETTE[series.colour % PALETTE.len()];
                 let points: Vec<(f64, f64)> =
                     series.points.iter().copied().filter(drawable).collect();
                 if series.connect {
@@ -184,6 +207,14 @@ mod tests {
     use super::*;
 
     #[test]
+    fn tick_labels_keep_three_significant_digits() {
+        assert_eq!(significant(0.012345), "0.0123");
+        assert_eq!(significant(100.0), "100");
+        assert_eq!(significant(2.5), "2.5");
+        assert_eq!(significant(12345.6), "12346");
+    }
+
+    #[test]
     fn pareto_front_keeps_only_undominated_points() {
         let pts = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (4.0, 2.0)];
         assert_eq!(pareto_front(&pts), vec![true, true, false, true, false]);
@@ -200,6 +231,7 @@ mod tests {
                 points: vec![(1.0, 1.0), (100.0, 10.0), (-1.0, 0.0)],
                 marked: vec![true, false, false],
                 connect: true,
+                colour: 0,
             }],
         };
         let img = match plot.render() {
