@@ -69,13 +69,13 @@ impl GpuArgs {
 #[derive(Args, Debug, Clone)]
 pub struct FrameArgs {
     /// Output size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "640x480", value_parser = parse_size)]
+    #[arg(long, default_value = "640x480", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u32, u32),
     /// Exposure in stops, applied before tone mapping (PNG only; the EXR stays linear).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
     /// Shadow-map resolution per light view.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1024)]
     pub shadow_map: u32,
     /// Render indirect light alone (no direct light, no emission), to score it against the
     /// reference's indirect part.
@@ -150,7 +150,7 @@ pub struct RenderArgs {
     pub hdr: Option<PathBuf>,
     /// Frames to render (default: as many as the method needs to settle, e.g. until an
     /// incremental method's old light weighs less than 1%).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<u32>,
     #[command(flatten)]
     pub gi: GiArgs,
@@ -182,10 +182,10 @@ pub struct ViewArgs {
     #[arg(long, default_value = "0.2,0.1,0.3", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub head: glam::Vec3,
     /// With --cave: the CAVE's wall size as a fraction of the scene's diagonal.
-    #[arg(long, default_value_t = 0.2)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.2)]
     pub cave_size: f32,
     /// Close after this many frames (for scripts and tests).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<u64>,
     /// On closing, save the first view as PREFIX.png and PREFIX.exr, and the window with its
     /// overlay as PREFIX-window.png.
@@ -215,7 +215,7 @@ pub struct ReferenceArgs {
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Samples per pixel.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1024)]
     pub spp: u32,
     /// Indirect bounces: 0 = direct light only, 1 = direct + one bounce, 'inf' = unlimited.
     #[arg(long, default_value = "1", value_parser = crate::reference::Bounces::parse)]
@@ -227,7 +227,7 @@ pub struct ReferenceArgs {
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
     /// Seed of the random numbers (the image is deterministic for a seed).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u32,
     /// Also write the direct and indirect parts (FILE stem + .direct.exr / .indirect.exr).
     #[arg(long)]
@@ -236,7 +236,7 @@ pub struct ReferenceArgs {
     #[arg(long)]
     pub reuse: bool,
     /// Image size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "640x480", value_parser = parse_size)]
+    #[arg(long, default_value = "640x480", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u32, u32),
     /// Exposure in stops for the PNG.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
@@ -260,6 +260,9 @@ pub struct CompareArgs {
     /// Write the FLIP error map as a heat map PNG.
     #[arg(long, value_name = "PNG")]
     pub heatmap: Option<PathBuf>,
+    /// Accept 8- or 16-bit images (tone-mapped values taken as they are, not radiance).
+    #[arg(long)]
+    pub allow_ldr: bool,
 }
 
 #[derive(Args, Debug, Clone)]
@@ -271,13 +274,13 @@ pub struct ProfileCommandArgs {
     #[arg(long, value_delimiter = ',', value_parser = method_parser(), ignore_case = true)]
     pub method: Vec<String>,
     /// Measured frames per configuration.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10)]
     pub frames: u32,
     /// Frames run before measuring.
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2)]
     pub warmup: u32,
     /// Image size as WIDTHxHEIGHT (the lookup and raster passes scale with it).
-    #[arg(long, default_value = "320x240", value_parser = parse_size)]
+    #[arg(long, default_value = "320x240", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u32, u32),
     /// How a method's independent parts are submitted (see `render --parts`).
     #[arg(long, visible_alias = "channels", value_enum, default_value_t = SubmitPlan::Auto)]
@@ -305,17 +308,17 @@ pub struct ReportArgs {
     #[arg(long, value_name = "DIR")]
     pub out_dir: PathBuf,
     /// Image size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "160x120", value_parser = parse_size)]
+    #[arg(long, default_value = "160x120", value_parser = parse_size, allow_hyphen_values = true)]
     pub size: (u32, u32),
     /// Samples per pixel of the reference (bounces 1, reused when cached in DIR).
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1024)]
     pub spp: u32,
     /// Methods, comma-separated (default: every registered method, the ambient baseline
     /// among them).
     #[arg(long, value_delimiter = ',', value_parser = method_parser(), ignore_case = true)]
     pub method: Vec<String>,
     /// Frames per run (default: as many as each configuration needs to settle).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<u32>,
     /// Method settings as comma-separated lists: the grid is every combination (settings not
     /// given take the values the method sweeps by default, or its default).
@@ -331,8 +334,11 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("'{text}' is not WIDTHxHEIGHT"))?;
     let parse = |s: &str| {
-        s.trim()
-            .parse::<u32>()
+        let s = s.trim();
+        if s.starts_with('-') {
+            return Err(format!("'{text}': sizes are whole numbers of at least 1"));
+        }
+        s.parse::<u32>()
             .map_err(|_| format!("'{text}' is not WIDTHxHEIGHT with whole numbers"))
     };
     Ok((parse(w)?, parse(h)?))

@@ -7,8 +7,14 @@ use crate::metrics;
 use super::cli::CompareArgs;
 
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let test = imageio::read_hdr(&args.test)?;
-    let reference = imageio::read_hdr(&args.reference)?;
+    let test = imageio::read_hdr(&args.test, args.allow_ldr)?;
+    let reference = imageio::read_hdr(&args.reference, args.allow_ldr)?;
+    if let Some(path) = &args.json {
+        imageio::check_destination(path)?;
+    }
+    if let Some(path) = &args.heatmap {
+        imageio::check_image_output(path, imageio::ImageKind::Ldr)?;
+    }
     let mask = args.mask.as_ref().map(|path| read_mask(path)).transpose()?;
     let result = metrics::compare(&test, &reference, mask.as_deref())?;
     print!("{}", result.describe());

@@ -29,7 +29,11 @@ pub fn run(command: &Command) -> anyhow::Result<()> {
 
 /// True when the error (or anything it wraps) is the user's bad input (exit code 2).
 pub fn is_input_error(error: &anyhow::Error) -> bool {
-    error
-        .chain()
-        .any(|e| e.downcast_ref::<crate::error::InputError>().is_some())
+    error.chain().any(|e| {
+        e.downcast_ref::<crate::error::InputError>().is_some()
+            || matches!(
+                e.downcast_ref::<crate::gpu::GpuError>(),
+                Some(crate::gpu::GpuError::NoSuchDevice(_))
+            )
+    })
 }

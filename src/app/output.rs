@@ -7,6 +7,14 @@ use crate::imageio::{self, HdrImage};
 
 use super::cli::ProfileArgs;
 
+/// Check, before any work, that the profile's files can be written where asked.
+pub fn check_profile_outputs(args: &ProfileArgs) -> Result<(), crate::error::InputError> {
+    for path in [&args.profile_json, &args.trace].into_iter().flatten() {
+        imageio::check_destination(path)?;
+    }
+    Ok(())
+}
+
 /// Print and write the profile as the arguments ask.
 pub fn write_profile(args: &ProfileArgs, profiler: &Profiler) -> anyhow::Result<()> {
     let report = profiler.report();

@@ -13,6 +13,10 @@ use crate::scene::Scene;
 use super::cli::ReferenceArgs;
 
 pub fn run(args: &ReferenceArgs) -> anyhow::Result<()> {
+    imageio::check_image_output(&args.out, imageio::ImageKind::Hdr)?;
+    if let Some(png) = &args.png {
+        imageio::check_image_output(png, imageio::ImageKind::Ldr)?;
+    }
     let scene = Scene::load(&args.scene)?;
     if args.spp == 0 {
         crate::bad_input!("--spp must be at least 1");

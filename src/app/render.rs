@@ -4,7 +4,7 @@ use anyhow::Context;
 
 use crate::gi::GiMethod;
 use crate::gpu::Gpu;
-use crate::imageio::HdrImage;
+use crate::imageio::{self, HdrImage, ImageKind};
 use crate::render::Frame;
 use crate::render::runner::run_frames;
 use crate::scene::Scene;
@@ -13,8 +13,20 @@ use super::cli::RenderArgs;
 use super::{method, output};
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.out {
+        imageio::check_image_output(path, ImageKind::Ldr)?;
+    }
+    if let Some(path) = &args.hdr {
+        imageio::check_image_output(path, ImageKind::Hdr)?;
+    }
+    output::check_profile_outputs(&args.profile)?;
     let scene = Scene::load(&args.scene)?;
     let chosen = method::choose(&args.gi.method, &args.gi.settings.values)?;
+    if chosen.is_none() && args.frame.indirect_only {
+        crate::bad_input!(
+            "--indirect-only with --method none would render a black image: choose a GI method"
+        );
+    }
     let frames = match args.frames {
         Some(0) => crate::bad_input!("--frames must be at least 1"),
         Some(n) => n,

@@ -150,6 +150,9 @@ pub struct DeviceInfo {
     pub max_image_dimension_3d: u32,
     pub max_storage_buffer_range: u32,
     pub max_push_constants_size: u32,
+    pub max_image_array_layers: u32,
+    /// Largest single memory allocation the device supports (maxMemoryAllocationSize).
+    pub max_memory_allocation_size: u64,
     pub shader_buffer_float32_atomic_add: bool,
 }
 
@@ -571,7 +574,7 @@ fn choose_physical_device(
                 .enumerate()
                 .map(|(i, d)| format!("{i}: {}", d.1))
                 .collect();
-            GpuError::Setup(format!(
+            GpuError::NoSuchDevice(format!(
                 "no device matches '{wanted}' (available: {})",
                 names.join(", ")
             ))
@@ -737,7 +740,10 @@ fn create_device(
     };
 
     let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
-    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+    let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut driver_props)
+        .push_next(&mut maintenance3);
     // SAFETY: the pNext chain is a local valid for the call.
     unsafe { instance.get_physical_device_properties2(physical, &mut props2) };
     let props = props2.properties;
@@ -761,6 +767,8 @@ fn create_device(
         max_image_dimension_3d: limits.max_image_dimension3_d,
         max_storage_buffer_range: limits.max_storage_buffer_range,
         max_push_constants_size: limits.max_push_constants_size,
+        max_image_array_layers: limits.max_image_array_layers,
+        max_memory_allocation_size: maintenance3.max_memory_allocation_size,
         shader_buffer_float32_atomic_add: atomic_add,
     };
     Ok((device, plan, info))

@@ -38,6 +38,9 @@ pub enum GpuError {
     Vulkan { what: String, result: vk::Result },
     #[error("{0}")]
     Setup(String),
+    /// `--device` named no device (the user's input, not a failure).
+    #[error("{0}")]
+    NoSuchDevice(String),
     #[error("out of GPU memory or allocation failed for {what}: {message}")]
     Allocation { what: String, message: String },
     #[error("shader interface mismatch in {pass}: {message}")]

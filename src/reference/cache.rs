@@ -129,7 +129,7 @@ pub fn load(path: &Path, key: &CacheKey) -> Option<ReferenceImages> {
     if &record.key != key || !record.split {
         return None;
     }
-    let read = |p: PathBuf| -> Option<HdrImage> { imageio::read_hdr(&p).ok() };
+    let read = |p: PathBuf| -> Option<HdrImage> { imageio::read_hdr(&p, false).ok() };
     let direct = read(split_path(path, "direct"))?;
     let indirect = read(split_path(path, "indirect"))?;
     let size_ok = |i: &HdrImage| i.width == key.settings.width && i.height == key.settings.height;

@@ -10,14 +10,14 @@
 use ash::vk;
 
 use super::passes::ScenePasses;
-use super::targets::{Eye, View, check_image_size};
+use super::targets::{Eye, View, check_buffer, check_image_size, check_layered_image};
 use crate::error::InputError;
 use crate::gi::{Changes, FrameContext, GiMethod};
 use crate::gpu::frames::{FrameBuilder, FrameRing, SemaphoreWait, TimelineSemaphore};
 use crate::gpu::{
     Gpu, GpuError, GpuResult, Image, ImageDesc, Part, Recorder, Sampler, ScopeTag, Stage,
 };
-use crate::scene::gpu::SceneBuffers;
+use crate::scene::gpu::{GpuVertex, SceneBuffers};
 use crate::scene::{Light, Scene};
 
 #[derive(Clone, Debug)]
@@ -122,8 +122,27 @@ impl Frame {
             ))
             .into());
         }
+        let shadow_layers = scene
+            .lights
+            .iter()
+            .map(|l| l.shadow_view_count())
+            .sum::<u32>()
+            .max(1);
+        check_layered_image(
+            gpu,
+            &format!("the shadow map of {} light(s)", scene.lights.len()),
+            (options.shadow_map_size, shadow_layers, 4),
+            "use fewer lights or a smaller --shadow-map",
+        )?;
+        check_buffer(
+            gpu,
+            &format!(
+                "the vertex buffer of {} triangles",
+                scene.mesh.triangle_count()
+            ),
+            scene.mesh.triangle_count() as u64 * 3 * std::mem::size_of::<GpuVertex>() as u64,
+        )?;
         let scene_buffers = SceneBuffers::upload(gpu, scene, options.shadow_map_size)?;
-        let shadow_layers = scene_buffers.shadow_view_matrices.len().max(1) as u32;
         let shadow_map = gpu.create_image(&ImageDesc {
             layers: shadow_layers,
             array: true,

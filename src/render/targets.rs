@@ -98,6 +98,53 @@ impl View {
     }
 }
 
+/// Largest single image or buffer vkgi allocates (also bounded by the device's
+/// maxMemoryAllocationSize), so a scene with many lights is refused up front, with the limit
+/// named, instead of failing allocation half-way.
+pub const MAX_RESOURCE_BYTES: u64 = 1 << 30;
+
+/// Check a layered image of `layers` layers of `side`² texels of `bytes_per_texel` against the
+/// device's layer limit and vkgi's memory limit; `what` and `fix` say what it is and what to
+/// change.
+pub fn check_layered_image(
+    gpu: &Gpu,
+    what: &str,
+    (side, layers, bytes_per_texel): (u32, u32, u64),
+    fix: &str,
+) -> Result<(), InputError> {
+    let max_layers = gpu.info.max_image_array_layers;
+    if layers > max_layers {
+        return Err(InputError::new(format!(
+            "{what} needs {layers} layers, over the device's limit of {max_layers} ({fix})"
+        )));
+    }
+    let bytes = u64::from(side) * u64::from(side) * u64::from(layers) * bytes_per_texel;
+    let limit = MAX_RESOURCE_BYTES.min(gpu.info.max_memory_allocation_size.max(1));
+    if bytes > limit {
+        return Err(InputError::new(format!(
+            "{what} needs {layers} layers of {side}x{side} ({} MiB), over the limit of {} MiB ({fix})",
+            bytes >> 20,
+            limit >> 20
+        )));
+    }
+    Ok(())
+}
+
+/// Check a buffer of `bytes` against the device's storage-buffer range and vkgi's memory limit.
+pub fn check_buffer(gpu: &Gpu, what: &str, bytes: u64) -> Result<(), InputError> {
+    let limit = MAX_RESOURCE_BYTES
+        .min(u64::from(gpu.info.max_storage_buffer_range))
+        .min(gpu.info.max_memory_allocation_size.max(1));
+    if bytes > limit {
+        return Err(InputError::new(format!(
+            "{what} needs {} MiB, over the limit of {} MiB",
+            bytes >> 20,
+            limit >> 20
+        )));
+    }
+    Ok(())
+}
+
 /// Check an image size against vkgi's and the device's limits.
 pub fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), InputError> {
     let limit = MAX_IMAGE_SIDE.min(gpu.info.max_image_dimension_2d);

@@ -1,8 +1,7 @@
 //! The built-in scenes, embedded in the binary so `--scene cornell` works from any directory.
 
 use super::Scene;
-use super::file::SceneFile;
-use super::obj::{self, ObjSource};
+use super::file::load_embedded;
 use crate::error::InputError;
 
 struct Builtin {
@@ -35,15 +34,7 @@ pub fn load(name: &str) -> Result<Option<Scene>, InputError> {
     let Some(builtin) = BUILTINS.iter().find(|b| b.name == name) else {
         return Ok(None);
     };
-    let file = SceneFile::parse(builtin.scene_file, builtin.name)?;
-    let source = ObjSource::Embedded {
-        name: builtin.name,
-        obj: builtin.obj,
-        mtl: builtin.mtl,
-    };
-    let (mesh, materials) = obj::load(&source, file.scale)?;
-    file.into_scene(builtin.name.to_string(), mesh, materials)
-        .map(Some)
+    load_embedded(builtin.name, builtin.scene_file, builtin.obj, builtin.mtl).map(Some)
 }
 
 #[cfg(test)]

@@ -21,7 +21,7 @@
 use std::path::Path;
 
 use glam::Vec3;
-use serde::Deserialize;
+use serde::{Deserialize, Deserializer};
 
 use super::obj::{self, ObjSource};
 use super::{Camera, Light, LightKind, Scene};
@@ -42,11 +42,29 @@ fn unit_scale() -> f32 {
     1.0
 }
 
+/// An `[x, y, z]` array of exactly three numbers (serde's fixed arrays let a fourth through).
+fn three<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; 3], D::Error> {
+    let values = Vec::<f32>::deserialize(d)?;
+    <[f32; 3]>::try_from(values.as_slice()).map_err(|_| {
+        serde::de::Error::custom(format!(
+            "expected 3 numbers [x, y, z], found {}",
+            values.len()
+        ))
+    })
+}
+
+fn optional_three<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f32; 3]>, D::Error> {
+    three(d).map(Some)
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CameraFile {
+    #[serde(deserialize_with = "three")]
     pub position: [f32; 3],
+    #[serde(deserialize_with = "three")]
     pub target: [f32; 3],
+    #[serde(default, deserialize_with = "optional_three")]
     pub up: Option<[f32; 3]>,
     pub fov: f32,
 }
@@ -55,16 +73,21 @@ pub struct CameraFile {
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum LightFile {
     Spot {
+        #[serde(deserialize_with = "three")]
         position: [f32; 3],
+        #[serde(deserialize_with = "three")]
         direction: [f32; 3],
         cone_angle: f32,
         penumbra: f32,
         flux: f32,
+        #[serde(default, deserialize_with = "optional_three")]
         color: Option<[f32; 3]>,
     },
     Point {
+        #[serde(deserialize_with = "three")]
         position: [f32; 3],
         flux: f32,
+        #[serde(default, deserialize_with = "optional_three")]
         color: Option<[f32; 3]>,
     },
 }
@@ -149,6 +172,20 @@ impl SceneFile {
     }
 }
 
+/// Load a scene whose scene file, OBJ and MTL are texts in memory (built-in scenes, fuzzing);
+/// the scene file's `mesh` entry is not read.
+pub fn load_embedded(
+    name: &str,
+    scene_file: &str,
+    obj: &str,
+    mtl: &str,
+) -> Result<Scene, InputError> {
+    let file = SceneFile::parse(scene_file, name)?;
+    let source = ObjSource::Embedded { name, obj, mtl };
+    let (mesh, materials) = obj::load(&source, file.scale)?;
+    file.into_scene(name.to_string(), mesh, materials)
+}
+
 /// Load a scene file from disk; its mesh path is relative to the file.
 pub fn load_scene_file(path: &Path) -> Result<Scene, InputError> {
     let origin = path.display().to_string();
@@ -182,6 +219,22 @@ mod tests {
         let area = "mesh = \"a.obj\"\n[[light]]\ntype = \"area\"\nposition = [0,0,0]\nflux = 1\n";
         assert!(SceneFile::parse(area, "s").is_err());
         assert!(SceneFile::parse("mesh = \"a.obj\"\nscale = -1\n", "s").is_err());
+    }
+
+    #[test]
+    fn vectors_must_have_exactly_three_numbers() {
+        let camera = |position: &str| {
+            format!(
+                "mesh = \"a.obj\"\n[camera]\nposition = {position}\ntarget = [0,0,0]\nfov = 40\n"
+            )
+        };
+        assert!(SceneFile::parse(&camera("[1, 2, 3]"), "s").is_ok());
+        for bad in ["[1, 2, 3, 4]", "[1, 2]", "[]", "\"up\""] {
+            let err = SceneFile::parse(&camera(bad), "s").err().unwrap();
+            assert!(err.to_string().contains("s:"), "{bad}: {err}");
+        }
+        let colour = "mesh = \"a.obj\"\n[[light]]\ntype = \"point\"\nposition = [0,1,0]\nflux = 2\ncolor = [1,1,1,1]\n";
+        assert!(SceneFile::parse(colour, "s").is_err());
     }
 
     #[test]

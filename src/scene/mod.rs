@@ -106,7 +106,7 @@ impl Scene {
 
     /// A scene around a bare mesh: camera from the front, a point light above and in front.
     pub fn framed(name: String, mesh: Mesh, materials: Vec<Material>) -> Result<Scene, InputError> {
-        let (min, max) = mesh.bounds();
+        let (min, max) = check_mesh(&name, &mesh)?;
         let camera = Camera::framing(min, max);
         let radius = 0.5 * (max - min).length().max(1e-3);
         let center = 0.5 * (min + max);
@@ -136,19 +136,39 @@ impl Scene {
                 "scene '{name}': the mesh has no triangles"
             )));
         }
+        let (bounds_min, bounds_max) = check_mesh(&name, &mesh)?;
+        for m in &materials {
+            let albedo_ok = m.albedo.is_finite()
+                && m.albedo.min_element() >= 0.0
+                && m.albedo.max_element() <= 1.0;
+            let emission_ok = m.emission.is_finite()
+                && m.emission.min_element() >= 0.0
+                && m.emission.max_element() <= MAX_POWER;
+            if !(albedo_ok && emission_ok) {
+                return Err(InputError::new(format!(
+                    "scene '{name}': material '{}' needs an albedo in [0, 1] and an emission in [0, {MAX_POWER:e}] per channel (it has {} and {})",
+                    m.name, m.albedo, m.emission
+                )));
+            }
+        }
         let emissive = materials.iter().any(|m| m.emission.max_element() > 0.0);
         if lights.is_empty() && !emissive {
             return Err(InputError::new(format!(
                 "scene '{name}' has no light: add a [[light]] to the scene file or an emissive (Ke) material"
             )));
         }
-        for (i, light) in lights.iter().enumerate() {
-            validate_light(i, light)
-                .map_err(|m| InputError::new(format!("scene '{name}': {m}")))?;
-        }
+        let lights = lights
+            .into_iter()
+            .enumerate()
+            .map(|(i, light)| validate_light(i, light))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|m| InputError::new(format!("scene '{name}': {m}")))?;
         let camera_ok = [camera.position, camera.target, camera.up]
             .iter()
             .all(|v| v.is_finite())
+            && [camera.position, camera.target]
+                .iter()
+                .all(|v| v.abs().max_element() <= MAX_COORDINATE)
             && (camera.target - camera.position).length() > 0.0
             && camera.up.cross(camera.target - camera.position).length() > 0.0
             && camera.vfov_deg.is_finite()
@@ -156,11 +176,19 @@ impl Scene {
             && camera.vfov_deg < 179.0;
         if !camera_ok {
             return Err(InputError::new(format!(
-                "scene '{name}': the camera needs finite position/target/up, a target away from the \
-                 position, an up vector not along the view, and a field of view in (0.1, 179) degrees"
+                "scene '{name}': the camera needs a position and target within ±{MAX_COORDINATE:e}, \
+                 a target away from the position, an up vector not along the view, and a field of \
+                 view in (0.1, 179) degrees"
             )));
         }
-        let (bounds_min, bounds_max) = mesh.bounds();
+        if !camera
+            .view_projection(1.0, bounds_min, bounds_max)
+            .is_finite()
+        {
+            return Err(InputError::new(format!(
+                "scene '{name}': the camera's projection is not finite (the camera is too far from the scene for single-precision floats)"
+            )));
+        }
         Ok(Scene {
             name,
             mesh,
@@ -182,10 +210,55 @@ impl Scene {
     }
 }
 
-fn validate_light(index: usize, light: &Light) -> Result<(), String> {
+/// Largest coordinate magnitude, in scene units: squares and products of coordinates stay far
+/// inside single-precision range.
+pub const MAX_COORDINATE: f32 = 1e15;
+/// Smallest extent of a mesh relative to its distance from the origin that single-precision
+/// floats resolve to a useful degree (about 1700 steps across it).
+const MIN_RELATIVE_EXTENT: f32 = 1e-4;
+/// Largest power per channel of a light (W) or emitted radiance of a material: products with
+/// geometry factors stay finite.
+pub const MAX_POWER: f32 = 1e20;
+
+/// Most triangles a mesh may have: the BVH's leaves index triangles in 27 bits.
+pub const MAX_TRIANGLES: usize = (1 << (32 - bvh::LEAF_COUNT_BITS)) - 1;
+
+fn check_triangle_count(name: &str, triangles: usize) -> Result<(), InputError> {
+    if triangles > MAX_TRIANGLES {
+        return Err(InputError::new(format!(
+            "scene '{name}': the mesh has {triangles} triangles, over vkgi's limit of {MAX_TRIANGLES}"
+        )));
+    }
+    Ok(())
+}
+
+/// The mesh's bounds, once its coordinates are known to be within what vkgi resolves.
+fn check_mesh(name: &str, mesh: &Mesh) -> Result<(Vec3, Vec3), InputError> {
+    check_triangle_count(name, mesh.triangle_count())?;
+    let (min, max) = mesh.bounds();
+    let reach = min.abs().max(max.abs()).max_element();
+    if !(reach.is_finite() && reach <= MAX_COORDINATE) {
+        return Err(InputError::new(format!(
+            "scene '{name}': the mesh reaches coordinate {reach:e}, beyond vkgi's limit of ±{MAX_COORDINATE:e} scene units (rescale it)"
+        )));
+    }
+    let extent = (max - min).max_element();
+    if !(extent > 0.0 && extent >= MIN_RELATIVE_EXTENT * reach) {
+        return Err(InputError::new(format!(
+            "scene '{name}': the mesh is {extent:e} units across at {reach:e} from the origin; single-precision floats cannot resolve it there (move it toward the origin)"
+        )));
+    }
+    Ok((min, max))
+}
+
+/// Check a light and return it with a unit spot direction (normalised in f64, so a long
+/// direction vector does not overflow).
+fn validate_light(index: usize, mut light: Light) -> Result<Light, String> {
     let what = format!("light {}", index + 1);
-    if !light.position.is_finite() {
-        return Err(format!("{what}: position must be finite"));
+    if !(light.position.is_finite() && light.position.abs().max_element() <= MAX_COORDINATE) {
+        return Err(format!(
+            "{what}: position must be finite and within ±{MAX_COORDINATE:e}"
+        ));
     }
     if !(light.flux.is_finite() && light.flux >= 0.0) {
         return Err(format!(
@@ -195,27 +268,161 @@ fn validate_light(index: usize, light: &Light) -> Result<(), String> {
     if !(light.color.is_finite() && light.color.min_element() >= 0.0) {
         return Err(format!("{what}: color components must be finite and >= 0"));
     }
+    let power = f64::from(light.flux) * f64::from(light.color.max_element());
+    if power > f64::from(MAX_POWER) {
+        return Err(format!(
+            "{what}: flux × color is {power:e} W in one channel, over vkgi's limit of {MAX_POWER:e} W"
+        ));
+    }
     if let LightKind::Spot {
         direction,
         cone_angle_deg,
         penumbra_deg,
-    } = light.kind
+    } = &mut light.kind
     {
-        if !(direction.is_finite() && direction.length() > 0.0) {
+        let unit = direction.as_dvec3().normalize_or_zero().as_vec3();
+        if !(direction.is_finite() && unit.is_finite() && unit.length() > 0.5) {
             return Err(format!(
                 "{what}: direction must be a finite, non-zero vector"
             ));
         }
-        if !(cone_angle_deg.is_finite() && cone_angle_deg > 0.0 && cone_angle_deg <= 85.0) {
+        *direction = unit;
+        if !(cone_angle_deg.is_finite() && *cone_angle_deg > 0.0 && *cone_angle_deg <= 85.0) {
             return Err(format!(
                 "{what}: cone_angle is the half-angle of the cone and must be in (0, 85] degrees"
             ));
         }
-        if !(penumbra_deg.is_finite() && (0.0..=cone_angle_deg).contains(&penumbra_deg)) {
+        if !(penumbra_deg.is_finite() && (0.0..=*cone_angle_deg).contains(penumbra_deg)) {
             return Err(format!(
                 "{what}: penumbra must be in [0, cone_angle] degrees"
             ));
         }
     }
-    Ok(())
+    Ok(light)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangle(a: Vec3, b: Vec3, c: Vec3) -> Mesh {
+        Mesh {
+            positions: vec![a, b, c],
+            normals: vec![Vec3::Z; 3],
+            materials: vec![0],
+        }
+    }
+
+    fn material() -> Vec<Material> {
+        vec![Material {
+            name: "m".into(),
+            albedo: Vec3::splat(0.5),
+            emission: Vec3::ZERO,
+        }]
+    }
+
+    fn point(position: Vec3, flux: f32, color: Vec3) -> Light {
+        Light {
+            position,
+            kind: LightKind::Point,
+            flux,
+            color,
+        }
+    }
+
+    fn camera() -> Camera {
+        Camera {
+            position: Vec3::new(0.0, 0.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            vfov_deg: 40.0,
+        }
+    }
+
+    fn unit() -> Mesh {
+        triangle(Vec3::ZERO, Vec3::X, Vec3::Y)
+    }
+
+    #[test]
+    fn light_power_is_checked_as_a_product() {
+        let scene = |flux: f32, color: Vec3| {
+            Scene::new(
+                "s".into(),
+                unit(),
+                material(),
+                vec![point(Vec3::Z, flux, color)],
+                camera(),
+            )
+        };
+        assert!(scene(10.0, Vec3::ONE).is_ok());
+        let err = scene(3e38, Vec3::ONE).unwrap_err();
+        assert!(err.0.contains("limit"), "{err}");
+        assert!(scene(1.0, Vec3::new(1e38, 1.0, 1.0)).is_err());
+        assert!(
+            scene(0.0, Vec3::ONE).is_ok(),
+            "zero flux is a valid (dark) light"
+        );
+    }
+
+    #[test]
+    fn a_huge_spot_direction_is_normalised_in_double_precision() {
+        let spot = Light {
+            position: Vec3::Z,
+            kind: LightKind::Spot {
+                direction: Vec3::new(1e38, 0.0, 0.0),
+                cone_angle_deg: 30.0,
+                penumbra_deg: 5.0,
+            },
+            flux: 1.0,
+            color: Vec3::ONE,
+        };
+        let scene = Scene::new("s".into(), unit(), material(), vec![spot], camera()).unwrap();
+        let LightKind::Spot { direction, .. } = scene.lights[0].kind else {
+            panic!("a spot light")
+        };
+        assert_eq!(direction, Vec3::X);
+    }
+
+    #[test]
+    fn coordinates_far_beyond_the_scene_are_rejected() {
+        let far = Vec3::splat(1e37);
+        let light_far = Scene::new(
+            "s".into(),
+            unit(),
+            material(),
+            vec![point(far, 1.0, Vec3::ONE)],
+            camera(),
+        );
+        assert!(light_far.unwrap_err().0.contains("light 1"));
+        let camera_far = Camera {
+            position: far,
+            ..camera()
+        };
+        let lights = vec![point(Vec3::Z, 1.0, Vec3::ONE)];
+        assert!(Scene::new("s".into(), unit(), material(), lights.clone(), camera_far).is_err());
+        let huge = triangle(Vec3::ZERO, Vec3::X * 1e30, Vec3::Y * 1e30);
+        let err = Scene::framed("s".into(), huge, material()).unwrap_err();
+        assert!(err.0.contains("the mesh reaches coordinate"), "{err}");
+        let tiny_far = triangle(
+            Vec3::splat(1e10),
+            Vec3::splat(1e10) + Vec3::X,
+            Vec3::splat(1e10) + Vec3::Y,
+        );
+        let err = Scene::framed("s".into(), tiny_far, material()).unwrap_err();
+        assert!(err.0.contains("cannot resolve"), "{err}");
+    }
+
+    #[test]
+    fn the_bvh_triangle_limit_is_checked() {
+        assert!(check_triangle_count("s", MAX_TRIANGLES).is_ok());
+        let err = check_triangle_count("s", MAX_TRIANGLES + 1).unwrap_err();
+        assert!(err.0.contains("134217727"), "{err}");
+    }
+
+    #[test]
+    fn emission_and_albedo_are_range_checked() {
+        let mut hot = material();
+        hot[0].emission = Vec3::splat(1e38);
+        assert!(Scene::new("s".into(), unit(), hot, vec![], camera()).is_err());
+    }
 }

@@ -1,13 +1,17 @@
-//! OBJ + MTL through tobj: `Kd` is the albedo, `Ke` the emitted radiance. Non-finite vertices,
-//! missing files and malformed data are input errors; zero-area triangles are skipped.
+//! OBJ + MTL through tobj: `Kd` is the albedo, `Ke` the emitted radiance. Non-finite vertices
+//! (after scaling), faces of fewer than three vertices, `usemtl` of a material no MTL defines,
+//! colour lines of fewer than three numbers, missing files and malformed data are input
+//! errors; zero-area triangles are skipped. Both files are checked before tobj reads them (it
+//! panics on some malformed MTL lines), and tobj runs behind a panic guard as a last resort.
 
+use std::cell::RefCell;
 use std::io::BufReader;
 use std::path::Path;
 
 use glam::Vec3;
 
 use super::{Material, Mesh};
-use crate::error::InputError;
+use crate::error::{InputError, catch_library_panic};
 
 /// Where an OBJ comes from: the file system, or text embedded in the binary (built-in scenes).
 pub enum ObjSource<'a> {
@@ -31,6 +35,73 @@ impl ObjSource<'_> {
 /// Albedo of triangles without a material.
 const DEFAULT_ALBEDO: f32 = 0.7;
 
+/// Read a text file, as an input error when it is missing, unreadable or not UTF-8.
+fn read_text(path: &Path, what: &str) -> Result<String, InputError> {
+    if !path.is_file() {
+        return Err(InputError::new(format!(
+            "{}: no such file ({what})",
+            path.display()
+        )));
+    }
+    let bytes = std::fs::read(path)
+        .map_err(|e| InputError::new(format!("{}: cannot read {what}: {e}", path.display())))?;
+    String::from_utf8(bytes)
+        .map_err(|_| InputError::new(format!("{}: {what} is not UTF-8 text", path.display())))
+}
+
+/// What the OBJ's own lines say before tobj reads them: the `usemtl` names. Faces of fewer than
+/// three vertices are errors (tobj would drop them silently).
+fn scan_obj(name: &str, text: &str) -> Result<Vec<String>, InputError> {
+    let mut used = Vec::new();
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("f") => {
+                let corners = words.count();
+                if corners < 3 {
+                    return Err(InputError::new(format!(
+                        "{name}:{}: a face needs at least 3 vertices, this one has {corners}",
+                        n + 1
+                    )));
+                }
+            }
+            Some("usemtl") => {
+                let material = line.trim_start()["usemtl".len()..].trim();
+                if material.is_empty() {
+                    return Err(InputError::new(format!(
+                        "{name}:{}: usemtl names no material",
+                        n + 1
+                    )));
+                }
+                if !used.iter().any(|u| u == material) {
+                    used.push(material.to_string());
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(used)
+}
+
+/// Colour lines (`Ka`, `Kd`, `Ks`, `Ke`) must hold three values (tobj panics on fewer).
+fn check_mtl(origin: &str, text: &str) -> Result<(), InputError> {
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() else {
+            continue;
+        };
+        let values: Vec<&str> = words.collect();
+        if values.len() < 3 {
+            return Err(InputError::new(format!(
+                "{origin}:{}: material colour {key} needs three numbers (R G B), found '{}'",
+                n + 1,
+                values.join(" ")
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Load the triangles and materials of an OBJ, scaling positions by `scale`.
 pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), InputError> {
     let name = source.name();
@@ -40,27 +111,51 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
         ignore_points: true,
         ignore_lines: true,
     };
-    let loaded = match source {
-        ObjSource::File(path) => {
-            if !path.is_file() {
-                return Err(InputError::new(format!("{name}: no such file")));
+    let obj_text = match source {
+        ObjSource::File(path) => read_text(path, "the OBJ")?,
+        ObjSource::Embedded { obj, .. } => (*obj).to_string(),
+    };
+    let used_materials = scan_obj(&name, &obj_text)?;
+    // Why a material library could not be loaded, in words (tobj only has an error code).
+    let mtl_failure: RefCell<Option<InputError>> = RefCell::new(None);
+    let load_mtl = |mtl_path: &Path| {
+        let (origin, text) = match source {
+            ObjSource::File(path) => {
+                let full = path.parent().unwrap_or(Path::new(".")).join(mtl_path);
+                let text = read_text(&full, "the material library its mtllib names");
+                (full.display().to_string(), text)
             }
-            tobj::load_obj(path, &options)
-        }
-        ObjSource::Embedded { obj, mtl, .. } => {
-            let mut reader = BufReader::new(obj.as_bytes());
-            tobj::load_obj_buf(&mut reader, &options, |_| {
-                tobj::load_mtl_buf(&mut BufReader::new(mtl.as_bytes()))
-            })
+            ObjSource::Embedded { mtl, .. } => (format!("{name} (MTL)"), Ok((*mtl).to_string())),
+        };
+        match text.and_then(|t| check_mtl(&origin, &t).map(|()| t)) {
+            Ok(text) => tobj::load_mtl_buf(&mut BufReader::new(text.as_bytes())),
+            Err(e) => {
+                mtl_failure.borrow_mut().get_or_insert(e);
+                Err(tobj::LoadError::MaterialParseError)
+            }
         }
     };
-    let (models, materials) =
-        loaded.map_err(|e| InputError::new(format!("{name}: malformed OBJ: {e}")))?;
+    let (models, materials) = catch_library_panic("the OBJ reader (tobj)", || {
+        let mut reader = BufReader::new(obj_text.as_bytes());
+        tobj::load_obj_buf(&mut reader, &options, load_mtl)
+            .map_err(|e| InputError::new(format!("{name}: malformed OBJ: {e}")))
+    })?;
+    if let Some(e) = mtl_failure.into_inner() {
+        return Err(e);
+    }
     let obj_materials = materials.map_err(|e| {
         InputError::new(format!(
             "{name}: cannot load its material library (MTL): {e}"
         ))
     })?;
+    if let Some(missing) = used_materials
+        .iter()
+        .find(|u| !obj_materials.iter().any(|m| &m.name == *u))
+    {
+        return Err(InputError::new(format!(
+            "{name}: usemtl {missing}: no material library of the OBJ defines it"
+        )));
+    }
 
     let mut materials = Vec::with_capacity(obj_materials.len() + 1);
     for m in &obj_materials {
@@ -75,14 +170,20 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
         let m = &model.mesh;
         let vertex_count = m.positions.len() / 3;
         for (v, p) in m.positions.chunks_exact(3).enumerate() {
-            if !p.iter().all(|c| c.is_finite()) {
+            let scaled = Vec3::new(p[0], p[1], p[2]) * scale;
+            if !scaled.is_finite() {
                 return Err(InputError::new(format!(
-                    "{name}: object '{}' vertex {} has a non-finite coordinate ({}, {}, {})",
+                    "{name}: object '{}' vertex {} has a non-finite coordinate ({}, {}, {}){}",
                     model.name,
                     v + 1,
                     p[0],
                     p[1],
-                    p[2]
+                    p[2],
+                    if scale == 1.0 {
+                        String::new()
+                    } else {
+                        format!(" once scaled by {scale}")
+                    }
                 )));
             }
         }
@@ -120,26 +221,31 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
                 ) * scale
             };
             let p = idx.map(position);
-            let cross = (p[1] - p[0]).cross(p[2] - p[0]);
-            let longest = (p[1] - p[0])
+            // In f64: edges and their cross product of far-apart vertices overflow f32.
+            let d = p.map(|v| v.as_dvec3());
+            let cross = (d[1] - d[0]).cross(d[2] - d[0]);
+            let longest = (d[1] - d[0])
                 .length_squared()
-                .max((p[2] - p[1]).length_squared())
-                .max((p[0] - p[2]).length_squared());
+                .max((d[2] - d[1]).length_squared())
+                .max((d[0] - d[2]).length_squared());
             let degenerate = longest == 0.0 || cross.length() <= 1e-7 * longest;
             if degenerate {
                 skipped += 1;
                 continue;
             }
-            let face_normal = cross.normalize();
+            let face_normal = cross.normalize().as_vec3();
             let has_normals = m.normals.len() == m.positions.len();
             for (corner, &i) in idx.iter().enumerate() {
-                let n = if has_normals {
+                let given = if has_normals {
                     Vec3::new(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2])
+                        .as_dvec3()
+                        .normalize_or_zero()
+                        .as_vec3()
                 } else {
-                    face_normal
+                    Vec3::ZERO
                 };
-                let n = if n.is_finite() && n.length() > 1e-6 {
-                    n.normalize()
+                let n = if given.is_finite() && given.length() > 0.5 {
+                    given
                 } else {
                     face_normal
                 };
@@ -251,5 +357,65 @@ mod tests {
         )
         .unwrap_err();
         assert!(albedo.to_string().contains("Kd"), "{albedo}");
+    }
+
+    #[test]
+    fn mtl_colour_lines_with_fewer_than_three_numbers_are_errors_not_panics() {
+        let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+        for mtl in [
+            "newmtl a\nKd 0.5\n",
+            "newmtl a\nKa 0.1 0.2\n",
+            "newmtl a\nKs\n",
+            "newmtl a\nKe 1 1",
+            "newmtl a\nKd 0",
+        ] {
+            let err = embedded(obj, mtl).unwrap_err();
+            assert!(
+                err.to_string().contains("needs three numbers"),
+                "{mtl:?}: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn usemtl_of_a_missing_material_is_an_error() {
+        let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nowhere\nf 1 2 3\n";
+        let err = embedded(obj, MTL).unwrap_err();
+        assert!(err.to_string().contains("usemtl nowhere"), "{err}");
+        let bare = "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
+        assert!(embedded(bare, "").is_err(), "no MTL at all defines it");
+    }
+
+    #[test]
+    fn a_two_vertex_face_is_an_error() {
+        let err = embedded("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2\n", "").unwrap_err();
+        assert!(
+            err.to_string().contains("t.obj:5: a face needs at least 3"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn vertices_are_checked_finite_after_scaling() {
+        let obj = "v 0 0 0\nv 1e30 0 0\nv 0 1e30 0\nf 1 2 3\n";
+        let ok = load(
+            &ObjSource::Embedded {
+                name: "t.obj",
+                obj,
+                mtl: "",
+            },
+            1.0,
+        );
+        assert!(ok.is_ok());
+        let err = load(
+            &ObjSource::Embedded {
+                name: "t.obj",
+                obj,
+                mtl: "",
+            },
+            1e30,
+        )
+        .unwrap_err();
+        assert!(err.to_string().contains("once scaled by"), "{err}");
     }
 }

@@ -9,6 +9,7 @@ use crate::gpu::{
     Binding, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc,
     Recorder,
 };
+use crate::render::targets::check_layered_image;
 use crate::scene::Scene;
 use crate::shader_shared::{RASTER_TRIANGLE_MATERIALS, RASTER_VERTICES};
 use crate::shaders;
@@ -36,7 +37,7 @@ pub struct Rsm {
 }
 
 impl Rsm {
-    pub fn new(gpu: &Gpu, scene: &Scene, size: u32) -> GpuResult<Rsm> {
+    pub fn new(gpu: &Gpu, scene: &Scene, size: u32) -> anyhow::Result<Rsm> {
         let pipeline = RasterPipeline::new(
             gpu,
             &RasterPipelineDesc {
@@ -58,6 +59,16 @@ impl Rsm {
             .map(|l| l.shadow_view_count())
             .sum::<u32>()
             .max(1);
+        // Position and flux are 16 bytes a texel, the normal 8.
+        check_layered_image(
+            gpu,
+            &format!(
+                "the reflective shadow map of {} light(s)",
+                scene.lights.len()
+            ),
+            (size, layers, 16),
+            "use fewer lights or a smaller --rsm",
+        )?;
         let layered = |name, format| {
             gpu.create_image(&ImageDesc {
                 layers,
