@@ -23,7 +23,7 @@ shared_constants! {
 
     // ---- shadow and G-buffer rasterisation (vertex pulling) ----
     RASTER_VERTICES: u32 = 0;
-    RASTER_TRIANGLE_MATERIALS: u32 = 1;
+    RASTER_TRIANGLES: u32 = 1;
     RASTER_MATERIALS: u32 = 2;
 
     // ---- deferred direct lighting ----
@@ -50,7 +50,7 @@ shared_constants! {
 
     // ---- reference path tracer ----
     REFERENCE_VERTICES: u32 = 0;
-    REFERENCE_TRIANGLE_MATERIALS: u32 = 1;
+    REFERENCE_TRIANGLES: u32 = 1;
     REFERENCE_MATERIALS: u32 = 2;
     REFERENCE_LIGHTS: u32 = 3;
     REFERENCE_BVH_NODES: u32 = 4;

@@ -262,9 +262,22 @@ fn broken_invariant(scene: &Scene) -> Option<String> {
         .mesh
         .normals
         .iter()
-        .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3)
+        .all(|n| *n == Vec3::ZERO || (n.is_finite() && (n.length() - 1.0).abs() < 1e-3))
     {
-        return Some("a normal that is not unit".into());
+        return Some("a normal neither unit nor zero".into());
+    }
+    let vertices = scene.mesh.positions.len();
+    if scene
+        .mesh
+        .indices
+        .iter()
+        .flatten()
+        .any(|&i| i as usize >= vertices)
+    {
+        return Some("a triangle's vertex index out of range".into());
+    }
+    if (0..scene.mesh.triangle_count()).any(|t| scene.mesh.face_normal(t) == Vec3::ZERO) {
+        return Some("a degenerate triangle".into());
     }
     if scene
         .mesh

@@ -4,8 +4,17 @@
 
 struct Vertex {
     vec4 position;  // xyz, w = 1
-    vec4 normal;    // xyz shading normal, w = 0
+    vec4 normal;    // xyz unit shading normal, or zero where the mesh has none; w = 0
 };
+
+// A triangle: xyz = its three vertex indices (winding order), w = its material.
+#define Triangle uvec4
+
+// The shading normal from interpolated vertex normals, or the face normal where they vanish
+// (vertices without normals); src/scene/mod.rs Mesh::shading_normal is the same rule.
+vec3 shading_normal(vec3 interpolated, vec3 face) {
+    return dot(interpolated, interpolated) > 1e-12 ? normalize(interpolated) : face;
+}
 
 struct Material {
     vec4 albedo;    // rgb diffuse albedo

@@ -22,7 +22,7 @@ layout(location = 3) out vec4 out_emission;
 void main() {
     // Surfaces are two-sided: turn both normals toward the viewer.
     float facing = dot(in_face_normal, pc.camera_position.xyz - in_position) >= 0.0 ? 1.0 : -1.0;
-    vec3 n = normalize(in_normal) * facing;
+    vec3 n = shading_normal(in_normal, in_face_normal) * facing;
     if (dot(n, in_face_normal * facing) <= 0.0) n = in_face_normal * facing;
     Material m = materials[in_material];
     out_position = vec4(in_position, 1.0);

@@ -3,11 +3,13 @@
 #include "common/scene.glsl"
 
 layout(binding = RASTER_VERTICES, std430) readonly buffer Vertices { Vertex vertices[]; };
+layout(binding = RASTER_TRIANGLES, std430) readonly buffer Triangles { Triangle triangles[]; };
 
 layout(push_constant) uniform Push {
     mat4 view_projection;
 } pc;
 
 void main() {
-    gl_Position = pc.view_projection * vec4(vertices[gl_VertexIndex].position.xyz, 1.0);
+    uint corner = triangles[gl_VertexIndex / 3][gl_VertexIndex % 3];
+    gl_Position = pc.view_projection * vec4(vertices[corner].position.xyz, 1.0);
 }

@@ -16,7 +16,7 @@
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
 layout(binding = REFERENCE_VERTICES, std430) readonly buffer Vertices { Vertex vertices[]; };
-layout(binding = REFERENCE_TRIANGLE_MATERIALS, std430) readonly buffer TriangleMaterials { uint triangle_materials[]; };
+layout(binding = REFERENCE_TRIANGLES, std430) readonly buffer Triangles { Triangle triangles[]; };
 layout(binding = REFERENCE_MATERIALS, std430) readonly buffer Materials { Material materials[]; };
 layout(binding = REFERENCE_LIGHTS, std430) readonly buffer Lights { Light lights[]; };
 layout(binding = REFERENCE_BVH_NODES, std430) readonly buffer BvhNodes { BvhNode bvh_nodes[]; };
@@ -66,18 +66,18 @@ void main() {
             vec2 uv;
             int tri = trace_ray(origin, dir, eps, 1e30, false, t, uv);
             if (tri < 0) break;
-            uint base = 3u * uint(tri);
-            vec3 a = vertices[base].position.xyz;
-            vec3 b = vertices[base + 1u].position.xyz;
-            vec3 c = vertices[base + 2u].position.xyz;
+            Triangle corners = triangles[tri];
+            vec3 a = vertices[corners.x].position.xyz;
+            vec3 b = vertices[corners.y].position.xyz;
+            vec3 c = vertices[corners.z].position.xyz;
             vec3 p = origin + dir * t;
             vec3 ng = normalize(cross(b - a, c - a));
+            vec3 ns = shading_normal(vertices[corners.x].normal.xyz * (1.0 - uv.x - uv.y)
+                                     + vertices[corners.y].normal.xyz * uv.x
+                                     + vertices[corners.z].normal.xyz * uv.y, ng);
             if (dot(ng, dir) > 0.0) ng = -ng;  // two-sided: face the incoming ray
-            vec3 ns = normalize(vertices[base].normal.xyz * (1.0 - uv.x - uv.y)
-                                + vertices[base + 1u].normal.xyz * uv.x
-                                + vertices[base + 2u].normal.xyz * uv.y);
             if (dot(ns, ng) < 0.0) ns = -ns;
-            Material m = materials[triangle_materials[tri]];
+            Material m = materials[corners.w];
 
             vec3 emitted = throughput * m.emission.rgb;
             if (depth <= 1u) direct += emitted; else indirect += emitted;

@@ -419,6 +419,47 @@ impl Gpu {
         )
     }
 
+    /// A device-local storage buffer of `count` items made by `item(i)`, written straight into
+    /// the staging memory a chunk at a time (no full copy of the data on the host first).
+    pub fn upload_storage_items<T: bytemuck::Pod>(
+        &self,
+        name: &str,
+        count: usize,
+        item: impl Fn(usize) -> T,
+    ) -> GpuResult<Buffer> {
+        if count == 0 {
+            return self.upload_storage(name, &[]);
+        }
+        let size = std::mem::size_of::<T>();
+        let buffer = self.create_buffer(&BufferDesc {
+            name,
+            size: (count * size) as u64,
+            usage: vk::BufferUsageFlags::STORAGE_BUFFER
+                | vk::BufferUsageFlags::TRANSFER_SRC
+                | vk::BufferUsageFlags::TRANSFER_DST,
+            location: MemoryLocation::GpuOnly,
+        })?;
+        let staging_name = format!("{name} (staging)");
+        let mut staging = self.create_buffer(&BufferDesc {
+            name: &staging_name,
+            size: buffer.size,
+            usage: vk::BufferUsageFlags::TRANSFER_SRC,
+            location: MemoryLocation::CpuToGpu,
+        })?;
+        const CHUNK: usize = 1 << 14;
+        let mut chunk: Vec<T> = Vec::with_capacity(CHUNK.min(count));
+        for start in (0..count).step_by(CHUNK) {
+            chunk.clear();
+            chunk.extend((start..(start + CHUNK).min(count)).map(&item));
+            staging.write_mapped((start * size) as u64, bytemuck::cast_slice(&chunk))?;
+        }
+        self.one_shot(|rec| {
+            rec.copy_buffer("upload", &staging, &buffer, buffer.size);
+            Ok(())
+        })?;
+        Ok(buffer)
+    }
+
     /// A device-local uniform buffer holding `data` (constants read by every invocation).
     pub fn upload_uniform(&self, name: &str, data: &[u8]) -> GpuResult<Buffer> {
         self.upload_buffer(name, vk::BufferUsageFlags::UNIFORM_BUFFER, data)

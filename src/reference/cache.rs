@@ -58,6 +58,10 @@ pub fn scene_hash(scene: &Scene) -> String {
         floats.extend(p.to_array());
         floats.extend(n.to_array());
     }
+    for (t, m) in scene.mesh.indices.iter().zip(&scene.mesh.materials) {
+        floats.extend(t.map(|i| i as f32));
+        floats.push(*m as f32);
+    }
     for m in &scene.materials {
         floats.extend(m.albedo.to_array());
         floats.extend(m.emission.to_array());

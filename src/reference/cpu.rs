@@ -96,11 +96,7 @@ fn pixel(
             if ng.dot(dir) > 0.0 {
                 ng = -ng;
             }
-            let (u, v) = hit.uv;
-            let mut ns = (mesh.normals[3 * t] * (1.0 - u - v)
-                + mesh.normals[3 * t + 1] * u
-                + mesh.normals[3 * t + 2] * v)
-                .normalize();
+            let mut ns = mesh.shading_normal(t, hit.uv);
             if ns.dot(ng) < 0.0 {
                 ns = -ns;
             }

@@ -250,10 +250,7 @@ impl PathTracer {
                 pipeline: &self.pipeline,
                 bindings: &[
                     Binding::read(ids::REFERENCE_VERTICES, &self.scene.vertices),
-                    Binding::read(
-                        ids::REFERENCE_TRIANGLE_MATERIALS,
-                        &self.scene.triangle_materials,
-                    ),
+                    Binding::read(ids::REFERENCE_TRIANGLES, &self.scene.triangles),
                     Binding::read(ids::REFERENCE_MATERIALS, &self.scene.materials),
                     Binding::read(ids::REFERENCE_LIGHTS, &self.scene.lights),
                     Binding::read(ids::REFERENCE_BVH_NODES, &self.bvh_nodes),

@@ -134,13 +134,16 @@ impl Frame {
             (options.shadow_map_size, shadow_layers, 4),
             "use fewer lights or a smaller --shadow-map",
         )?;
+        let mesh = &scene.mesh;
         check_buffer(
             gpu,
-            &format!(
-                "the vertex buffer of {} triangles",
-                scene.mesh.triangle_count()
-            ),
-            scene.mesh.triangle_count() as u64 * 3 * std::mem::size_of::<GpuVertex>() as u64,
+            &format!("the vertex buffer of {} vertices", mesh.positions.len()),
+            mesh.positions.len() as u64 * std::mem::size_of::<GpuVertex>() as u64,
+        )?;
+        check_buffer(
+            gpu,
+            &format!("the triangle buffer of {} triangles", mesh.triangle_count()),
+            mesh.triangle_count() as u64 * 16,
         )?;
         let scene_buffers = SceneBuffers::upload(gpu, scene, options.shadow_map_size)?;
         let shadow_map = gpu.create_image(&ImageDesc {

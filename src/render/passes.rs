@@ -98,7 +98,10 @@ impl ScenePasses {
             rec.raster(&RasterPass {
                 name: "shadow map",
                 pipeline: &self.shadow,
-                bindings: &[Binding::read(ids::RASTER_VERTICES, &scene.vertices)],
+                bindings: &[
+                    Binding::read(ids::RASTER_VERTICES, &scene.vertices),
+                    Binding::read(ids::RASTER_TRIANGLES, &scene.triangles),
+                ],
                 push: &push,
                 color: &[],
                 depth: Some((shadow_map, layer as u32)),
@@ -125,7 +128,7 @@ impl ScenePasses {
             pipeline: &self.gbuffer,
             bindings: &[
                 Binding::read(ids::RASTER_VERTICES, &scene.vertices),
-                Binding::read(ids::RASTER_TRIANGLE_MATERIALS, &scene.triangle_materials),
+                Binding::read(ids::RASTER_TRIANGLES, &scene.triangles),
                 Binding::read(ids::RASTER_MATERIALS, &scene.materials),
             ],
             push: &push,

@@ -329,12 +329,9 @@ mod tests {
         let mut mesh = Mesh::default();
         for _ in 0..n {
             let c = Vec3::new(next(), next(), next()) * 10.0;
-            for _ in 0..3 {
-                let p = c + Vec3::new(next(), next(), next()) - 0.5;
-                mesh.positions.push(p);
-                mesh.normals.push(Vec3::Y);
-            }
-            mesh.materials.push(0);
+            let mut corner = || c + Vec3::new(next(), next(), next()) - 0.5;
+            let corners = [corner(), corner(), corner()];
+            mesh.push_triangle(corners, [Vec3::Y; 3], 0);
         }
         mesh
     }

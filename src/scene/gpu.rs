@@ -126,11 +126,14 @@ pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShad
 
 /// The scene's geometry and lights in storage buffers.
 pub struct SceneBuffers {
+    /// The mesh's unique vertices.
     pub vertices: Buffer,
-    pub triangle_materials: Buffer,
+    /// Per triangle: its three vertex indices and its material (a uvec4).
+    pub triangles: Buffer,
     pub materials: Buffer,
     pub lights: Buffer,
     pub shadow_views: Buffer,
+    /// Vertices a draw of every triangle pulls (three per triangle).
     pub vertex_count: u32,
     pub light_count: u32,
     /// Shadow views of every light, in order (the shadow pass renders one layer per view).
@@ -142,15 +145,6 @@ pub struct SceneBuffers {
 impl SceneBuffers {
     pub fn upload(gpu: &Gpu, scene: &Scene, shadow_map_size: u32) -> GpuResult<SceneBuffers> {
         let mesh = &scene.mesh;
-        let vertices: Vec<GpuVertex> = mesh
-            .positions
-            .iter()
-            .zip(&mesh.normals)
-            .map(|(p, n)| GpuVertex {
-                position: p.extend(1.0).to_array(),
-                normal: n.extend(0.0).to_array(),
-            })
-            .collect();
         let materials: Vec<GpuMaterial> = scene
             .materials
             .iter()
@@ -161,15 +155,20 @@ impl SceneBuffers {
             .collect();
         let (lights, views) = shadow_views(scene, shadow_map_size);
         Ok(SceneBuffers {
-            vertices: gpu.upload_storage("scene vertices", bytemuck::cast_slice(&vertices))?,
-            triangle_materials: gpu.upload_storage(
-                "scene triangle materials",
-                bytemuck::cast_slice(&mesh.materials),
-            )?,
+            vertices: gpu.upload_storage_items("scene vertices", mesh.positions.len(), |i| {
+                GpuVertex {
+                    position: mesh.positions[i].extend(1.0).to_array(),
+                    normal: mesh.normals[i].extend(0.0).to_array(),
+                }
+            })?,
+            triangles: gpu.upload_storage_items("scene triangles", mesh.triangle_count(), |t| {
+                let [a, b, c] = mesh.indices[t];
+                [a, b, c, mesh.materials[t]]
+            })?,
             materials: gpu.upload_storage("scene materials", bytemuck::cast_slice(&materials))?,
             lights: gpu.upload_storage("scene lights", bytemuck::cast_slice(&lights))?,
             shadow_views: gpu.upload_storage("shadow views", bytemuck::cast_slice(&views))?,
-            vertex_count: vertices.len() as u32,
+            vertex_count: 3 * mesh.triangle_count() as u32,
             light_count: lights.len() as u32,
             shadow_view_matrices: Vec::new(),
             shadow_view_origins: Vec::new(),

@@ -27,33 +27,54 @@ pub struct Material {
     pub emission: Vec3,
 }
 
-/// Triangles as a flat list: corners `3t, 3t+1, 3t+2` belong to triangle `t`.
+/// An indexed triangle mesh: unique vertices (position and shading normal) and three vertex
+/// indices per triangle, each triangle with its material.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
     pub positions: Vec<Vec3>,
-    /// Shading normal per corner (the face normal where the OBJ has none).
+    /// Unit shading normal per vertex, or zero where the file gives none: the triangle's face
+    /// normal is used there (the shaders and the CPU estimators share this rule).
     pub normals: Vec<Vec3>,
+    /// Vertex indices of each triangle, in winding order.
+    pub indices: Vec<[u32; 3]>,
     /// Material index per triangle.
     pub materials: Vec<u32>,
 }
 
 impl Mesh {
     pub fn triangle_count(&self) -> usize {
-        self.materials.len()
+        self.indices.len()
     }
 
     pub fn triangle(&self, t: usize) -> [Vec3; 3] {
-        [
-            self.positions[3 * t],
-            self.positions[3 * t + 1],
-            self.positions[3 * t + 2],
-        ]
+        self.indices[t].map(|i| self.positions[i as usize])
     }
 
     /// Unit geometric normal of triangle `t` (by winding; shading flips it toward the viewer).
     pub fn face_normal(&self, t: usize) -> Vec3 {
         let [a, b, c] = self.triangle(t);
         (b - a).cross(c - a).normalize_or_zero()
+    }
+
+    /// The shading normal at barycentric `(u, v)` of triangle `t`: the interpolated vertex
+    /// normals, or the face normal where they vanish (vertices without normals).
+    pub fn shading_normal(&self, t: usize, (u, v): (f32, f32)) -> Vec3 {
+        let [a, b, c] = self.indices[t].map(|i| self.normals[i as usize]);
+        let n = a * (1.0 - u - v) + b * u + c * v;
+        if n.length_squared() > 1e-12 {
+            n.normalize()
+        } else {
+            self.face_normal(t)
+        }
+    }
+
+    /// Append a triangle with its own three vertices (normals zero: flat).
+    pub fn push_triangle(&mut self, corners: [Vec3; 3], normals: [Vec3; 3], material: u32) {
+        let first = self.positions.len() as u32;
+        self.positions.extend(corners);
+        self.normals.extend(normals);
+        self.indices.push([first, first + 1, first + 2]);
+        self.materials.push(material);
     }
 
     pub fn bounds(&self) -> (Vec3, Vec3) {
@@ -210,9 +231,9 @@ impl Scene {
     }
 }
 
-/// Largest coordinate magnitude, in scene units: squares and products of coordinates stay far
-/// inside single-precision range.
-pub const MAX_COORDINATE: f32 = 1e15;
+/// Largest coordinate magnitude, in scene units: squared lengths of edge cross products (face
+/// normals, in f32 on the GPU) stay inside single-precision range: (2e9)^4 * 3 < 3.4e38.
+pub const MAX_COORDINATE: f32 = 1e9;
 /// Smallest extent of a mesh relative to its distance from the origin that single-precision
 /// floats resolve to a useful degree (about 1700 steps across it).
 const MIN_RELATIVE_EXTENT: f32 = 1e-4;
@@ -306,11 +327,9 @@ mod tests {
     use super::*;
 
     fn triangle(a: Vec3, b: Vec3, c: Vec3) -> Mesh {
-        Mesh {
-            positions: vec![a, b, c],
-            normals: vec![Vec3::Z; 3],
-            materials: vec![0],
-        }
+        let mut mesh = Mesh::default();
+        mesh.push_triangle([a, b, c], [Vec3::ZERO; 3], 0);
+        mesh
     }
 
     fn material() -> Vec<Material> {
@@ -404,9 +423,9 @@ mod tests {
         let err = Scene::framed("s".into(), huge, material()).unwrap_err();
         assert!(err.0.contains("the mesh reaches coordinate"), "{err}");
         let tiny_far = triangle(
-            Vec3::splat(1e10),
-            Vec3::splat(1e10) + Vec3::X,
-            Vec3::splat(1e10) + Vec3::Y,
+            Vec3::splat(1e8),
+            Vec3::splat(1e8) + Vec3::X * 100.0,
+            Vec3::splat(1e8) + Vec3::Y * 100.0,
         );
         let err = Scene::framed("s".into(), tiny_far, material()).unwrap_err();
         assert!(err.0.contains("cannot resolve"), "{err}");

@@ -5,7 +5,7 @@
 //! panics on some malformed MTL lines), and tobj runs behind a panic guard as a last resort.
 
 use std::cell::RefCell;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 
 use glam::Vec3;
@@ -50,10 +50,16 @@ fn read_text(path: &Path, what: &str) -> Result<String, InputError> {
 }
 
 /// What the OBJ's own lines say before tobj reads them: the `usemtl` names. Faces of fewer than
-/// three vertices are errors (tobj would drop them silently).
-fn scan_obj(name: &str, text: &str) -> Result<Vec<String>, InputError> {
-    let mut used = Vec::new();
-    for (n, line) in text.lines().enumerate() {
+/// three vertices are errors (tobj would drop them silently). Reads line by line.
+fn scan_obj(name: &str, reader: impl BufRead) -> Result<Vec<String>, InputError> {
+    let mut used: Vec<String> = Vec::new();
+    for (n, line) in reader.lines().enumerate() {
+        let line = line.map_err(|e| match e.kind() {
+            std::io::ErrorKind::InvalidData => {
+                InputError::new(format!("{name}:{}: not UTF-8 text", n + 1))
+            }
+            _ => InputError::new(format!("{name}: cannot read the OBJ: {e}")),
+        })?;
         let mut words = line.split_whitespace();
         match words.next() {
             Some("f") => {
@@ -81,6 +87,64 @@ fn scan_obj(name: &str, text: &str) -> Result<Vec<String>, InputError> {
         }
     }
     Ok(used)
+}
+
+/// Faces per object tobj parses at a time (see [`Chunked`]).
+const CHUNK_FACES: usize = 1 << 16;
+
+/// An OBJ reader that starts a new object (`o`) every [`CHUNK_FACES`] faces. tobj holds every
+/// face of the current object parsed (about 100 bytes a face) until the object ends, so a
+/// single-object file of two million triangles would peak at six times its size; split into
+/// objects it holds one chunk. Objects keep the material in use, so the mesh is unchanged.
+struct Chunked<R: BufRead> {
+    inner: R,
+    /// Bytes read from `inner` (and injected) not yet handed out, from `at`.
+    pending: Vec<u8>,
+    at: usize,
+    faces: usize,
+    chunks: usize,
+}
+
+impl<R: BufRead> Chunked<R> {
+    fn new(inner: R) -> Self {
+        Chunked {
+            inner,
+            pending: Vec::new(),
+            at: 0,
+            faces: 0,
+            chunks: 0,
+        }
+    }
+}
+
+impl<R: BufRead> Read for Chunked<R> {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        if self.at == self.pending.len() {
+            self.pending.clear();
+            self.at = 0;
+            let mut line = Vec::new();
+            if self.inner.read_until(b'\n', &mut line)? == 0 {
+                return Ok(0);
+            }
+            let trimmed = line.trim_ascii_start();
+            if trimmed.starts_with(b"o ") || trimmed.starts_with(b"g ") || trimmed == b"o" {
+                self.faces = 0;
+            } else if trimmed.starts_with(b"f ") || trimmed.starts_with(b"f\t") {
+                self.faces += 1;
+                if self.faces > CHUNK_FACES {
+                    self.faces = 1;
+                    self.chunks += 1;
+                    self.pending
+                        .extend_from_slice(format!("o part-{}\n", self.chunks).as_bytes());
+                }
+            }
+            self.pending.extend_from_slice(&line);
+        }
+        let n = out.len().min(self.pending.len() - self.at);
+        out[..n].copy_from_slice(&self.pending[self.at..self.at + n]);
+        self.at += n;
+        Ok(n)
+    }
 }
 
 /// Colour lines (`Ka`, `Kd`, `Ks`, `Ke`) must hold three values (tobj panics on fewer).
@@ -111,11 +175,20 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
         ignore_points: true,
         ignore_lines: true,
     };
-    let obj_text = match source {
-        ObjSource::File(path) => read_text(path, "the OBJ")?,
-        ObjSource::Embedded { obj, .. } => (*obj).to_string(),
+    let open = || -> Result<Box<dyn BufRead + '_>, InputError> {
+        match source {
+            ObjSource::File(path) => {
+                if !path.is_file() {
+                    return Err(InputError::new(format!("{name}: no such file (the OBJ)")));
+                }
+                let file = std::fs::File::open(path)
+                    .map_err(|e| InputError::new(format!("{name}: cannot read the OBJ: {e}")))?;
+                Ok(Box::new(BufReader::new(file)))
+            }
+            ObjSource::Embedded { obj, .. } => Ok(Box::new(obj.as_bytes())),
+        }
     };
-    let used_materials = scan_obj(&name, &obj_text)?;
+    let used_materials = scan_obj(&name, open()?)?;
     // Why a material library could not be loaded, in words (tobj only has an error code).
     let mtl_failure: RefCell<Option<InputError>> = RefCell::new(None);
     let load_mtl = |mtl_path: &Path| {
@@ -136,7 +209,7 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
         }
     };
     let (models, materials) = catch_library_panic("the OBJ reader (tobj)", || {
-        let mut reader = BufReader::new(obj_text.as_bytes());
+        let mut reader = BufReader::new(Chunked::new(open()?));
         tobj::load_obj_buf(&mut reader, &options, load_mtl)
             .map_err(|e| InputError::new(format!("{name}: malformed OBJ: {e}")))
     })?;
@@ -164,7 +237,15 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
     let default_material = materials.len() as u32;
     let mut uses_default = false;
 
-    let mut mesh = Mesh::default();
+    // Reserved up front: growth by doubling would hold up to twice the mesh at its peak.
+    let triangles: usize = models.iter().map(|m| m.mesh.indices.len() / 3).sum();
+    let vertices: usize = models.iter().map(|m| m.mesh.positions.len() / 3).sum();
+    let mut mesh = Mesh {
+        positions: Vec::with_capacity(vertices),
+        normals: Vec::with_capacity(vertices),
+        indices: Vec::with_capacity(triangles),
+        materials: Vec::with_capacity(triangles),
+    };
     let mut skipped = 0usize;
     for model in &models {
         let m = &model.mesh;
@@ -200,6 +281,33 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
                 default_material
             }
         };
+        let has_normals = m.normals.len() == m.positions.len();
+        let position = |i: usize| {
+            Vec3::new(
+                m.positions[3 * i],
+                m.positions[3 * i + 1],
+                m.positions[3 * i + 2],
+            ) * scale
+        };
+        // A unit normal in f64 (a huge one overflows its length in f32), or zero where the
+        // file gives none or a degenerate one: the face normal is used there.
+        let normal = |i: usize| {
+            if !has_normals {
+                return Vec3::ZERO;
+            }
+            let n = Vec3::new(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2])
+                .as_dvec3()
+                .normalize_or_zero()
+                .as_vec3();
+            if n.is_finite() && n.length() > 0.5 {
+                n
+            } else {
+                Vec3::ZERO
+            }
+        };
+        // The model's vertices become the mesh's as triangles use them, so unused vertices
+        // (of skipped triangles) do not widen the bounds.
+        let mut remap = vec![u32::MAX; vertex_count];
         for tri in m.indices.chunks_exact(3) {
             let index = |k: usize| -> Result<usize, InputError> {
                 let i = tri[k] as usize;
@@ -213,16 +321,8 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
                 Ok(i)
             };
             let idx = [index(0)?, index(1)?, index(2)?];
-            let position = |i: usize| {
-                Vec3::new(
-                    m.positions[3 * i],
-                    m.positions[3 * i + 1],
-                    m.positions[3 * i + 2],
-                ) * scale
-            };
-            let p = idx.map(position);
             // In f64: edges and their cross product of far-apart vertices overflow f32.
-            let d = p.map(|v| v.as_dvec3());
+            let d = idx.map(|i| position(i).as_dvec3());
             let cross = (d[1] - d[0]).cross(d[2] - d[0]);
             let longest = (d[1] - d[0])
                 .length_squared()
@@ -233,25 +333,15 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
                 skipped += 1;
                 continue;
             }
-            let face_normal = cross.normalize().as_vec3();
-            let has_normals = m.normals.len() == m.positions.len();
-            for (corner, &i) in idx.iter().enumerate() {
-                let given = if has_normals {
-                    Vec3::new(m.normals[3 * i], m.normals[3 * i + 1], m.normals[3 * i + 2])
-                        .as_dvec3()
-                        .normalize_or_zero()
-                        .as_vec3()
-                } else {
-                    Vec3::ZERO
-                };
-                let n = if given.is_finite() && given.length() > 0.5 {
-                    given
-                } else {
-                    face_normal
-                };
-                mesh.positions.push(p[corner]);
-                mesh.normals.push(n);
-            }
+            let corners = idx.map(|i| {
+                if remap[i] == u32::MAX {
+                    remap[i] = mesh.positions.len() as u32;
+                    mesh.positions.push(position(i));
+                    mesh.normals.push(normal(i));
+                }
+                remap[i]
+            });
+            mesh.indices.push(corners);
             mesh.materials.push(material);
         }
     }
@@ -384,6 +474,36 @@ mod tests {
         assert!(err.to_string().contains("usemtl nowhere"), "{err}");
         let bare = "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl red\nf 1 2 3\n";
         assert!(embedded(bare, "").is_err(), "no MTL at all defines it");
+    }
+
+    #[test]
+    fn large_objects_are_read_in_chunks_into_the_same_mesh() {
+        // A strip of 3 * CHUNK_FACES / 2 + 1 triangles in one object, with one material.
+        let quads = 3 * CHUNK_FACES / 4 + 1;
+        let mut obj = String::from("mtllib t.mtl\nusemtl red\n");
+        for i in 0..=quads {
+            obj.push_str(&format!("v {i} 0 0\nv {i} 1 0\n"));
+        }
+        for i in 0..quads {
+            let (a, b) = (2 * i + 1, 2 * i + 3);
+            obj.push_str(&format!("f {a} {b} {}\nf {a} {} {}\n", b + 1, b + 1, a + 1));
+        }
+        let (mesh, materials) = embedded(&obj, MTL).unwrap();
+        assert_eq!(mesh.triangle_count(), 2 * quads);
+        assert!(
+            mesh.materials
+                .iter()
+                .all(|&m| materials[m as usize].name == "red")
+        );
+        let (min, max) = mesh.bounds();
+        assert_eq!((min, max), (Vec3::ZERO, Vec3::new(quads as f32, 1.0, 0.0)));
+        let area: f32 = (0..mesh.triangle_count())
+            .map(|t| {
+                let [a, b, c] = mesh.triangle(t);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        assert!((area - quads as f32).abs() < 1e-3, "{area}");
     }
 
     #[test]

@@ -115,11 +115,7 @@ pub fn icosphere(subdivisions: u32, r: f32) -> Mesh {
     let mut mesh = Mesh::default();
     for [a, b, c] in faces {
         let n = (v[b] - v[a]).cross(v[c] - v[a]).normalize();
-        for i in [a, b, c] {
-            mesh.positions.push(v[i] * r);
-            mesh.normals.push(n);
-        }
-        mesh.materials.push(0);
+        mesh.push_triangle([a, b, c].map(|i| v[i] * r), [n; 3], 0);
     }
     mesh
 }
@@ -152,12 +148,8 @@ pub fn plane_under_point_light(albedo: f32, flux: f32) -> Scene {
     let mut mesh = Mesh::default();
     let corners = [(-2.0, -2.0), (2.0, -2.0), (2.0, 2.0), (-2.0, 2.0)];
     for tri in [[0, 1, 2], [0, 2, 3]] {
-        for i in tri {
-            let (x, z) = corners[i];
-            mesh.positions.push(Vec3::new(x, 0.0, z));
-            mesh.normals.push(Vec3::Y);
-        }
-        mesh.materials.push(0);
+        let corner = |i: usize| Vec3::new(corners[i].0, 0.0, corners[i].1);
+        mesh.push_triangle(tri.map(corner), [Vec3::Y; 3], 0);
     }
     let material = Material {
         name: "plane".into(),

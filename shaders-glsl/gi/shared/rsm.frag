@@ -31,7 +31,7 @@ void main() {
     ShadowView view = views[pc.view];
     Light light = lights[uint(view.axis_light.w)];
     float facing = dot(in_face_normal, pc.camera_position.xyz - in_position) >= 0.0 ? 1.0 : -1.0;
-    vec3 n = normalize(in_normal) * facing;
+    vec3 n = shading_normal(in_normal, in_face_normal) * facing;
     if (dot(n, in_face_normal * facing) <= 0.0) n = in_face_normal * facing;
     vec3 to_light;
     float distance;

@@ -120,11 +120,7 @@ mod tests {
             Vec3::new(0.5, 0.0, 1.0),
         ];
         for tri in [[0, 1, 2], [0, 2, 3]] {
-            for i in tri {
-                mesh.positions.push(corners[i]);
-                mesh.normals.push(Vec3::X);
-            }
-            mesh.materials.push(0);
+            mesh.push_triangle(tri.map(|i| corners[i]), [Vec3::X; 3], 0);
         }
         let lattice = Lattice::fit(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0), 2).unwrap();
         let transfer = TransferVectors::compute(2000, 3);

@@ -3,7 +3,7 @@
 
 crate::shared_constants! {
     // ---- reflective shadow maps (shaders-glsl/gi/shared/rsm.frag; the vertex stage is the
-    // G-buffer's, bound with RASTER_VERTICES and RASTER_TRIANGLE_MATERIALS) ----
+    // G-buffer's, bound with RASTER_VERTICES and RASTER_TRIANGLES) ----
     RSM_MATERIALS: u32 = 2;
     RSM_LIGHTS: u32 = 3;
     RSM_VIEWS: u32 = 4;

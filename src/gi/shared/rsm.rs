@@ -11,7 +11,7 @@ use crate::gpu::{
 };
 use crate::render::targets::check_layered_image;
 use crate::scene::Scene;
-use crate::shader_shared::{RASTER_TRIANGLE_MATERIALS, RASTER_VERTICES};
+use crate::shader_shared::{RASTER_TRIANGLES, RASTER_VERTICES};
 use crate::shaders;
 
 crate::push_constants! {
@@ -116,7 +116,7 @@ impl Rsm {
                     pipeline: &self.pipeline,
                     bindings: &[
                         Binding::read(RASTER_VERTICES, &s.vertices),
-                        Binding::read(RASTER_TRIANGLE_MATERIALS, &s.triangle_materials),
+                        Binding::read(RASTER_TRIANGLES, &s.triangles),
                         Binding::read(ids::RSM_MATERIALS, &s.materials),
                         Binding::read(ids::RSM_LIGHTS, &s.lights),
                         Binding::read(ids::RSM_VIEWS, &s.shadow_views),
