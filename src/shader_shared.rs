@@ -57,6 +57,15 @@ shared_constants! {
     REFERENCE_BVH_TRIANGLES: u32 = 5;
     REFERENCE_DIRECT_SUM: u32 = 6;
     REFERENCE_INDIRECT_SUM: u32 = 7;
+    REFERENCE_EMITTERS: u32 = 8;
+    /// First random-number dimension of the emitter samples (three per path vertex), apart
+    /// from the bounce dimensions 2 + 3 * depth.
+    REFERENCE_EMITTER_DIM: u32 = 65536;
+    /// Which strategies light a surface from emitters: both with multiple importance sampling,
+    /// emitter sampling (next-event estimation) alone, or BSDF-sampled hits alone.
+    REFERENCE_STRATEGY_MIS: u32 = 0;
+    REFERENCE_STRATEGY_LIGHT: u32 = 1;
+    REFERENCE_STRATEGY_BSDF: u32 = 2;
     /// `max_bounces` value meaning "no limit" (paths end by Russian roulette).
     REFERENCE_UNLIMITED_BOUNCES: u32 = 0xFFFFFFFF;
     /// Hard cap on path length, even without a bounce limit.

@@ -673,6 +673,7 @@ fn default_settings_beat_the_best_constant_ambient_term() {
         spp: 256,
         bounces: vkgi::reference::Bounces::Limited(1),
         seed: 1,
+        strategy: Default::default(),
     };
     let mut tracer = vkgi::reference::PathTracer::new(&gpu, &scene, w, h).unwrap();
     let reference = tracer.render(&gpu, &settings, |_, _| {}).unwrap();

@@ -7,11 +7,12 @@ mod common;
 use glam::{Vec2, Vec3};
 use vkgi::imageio::HdrImage;
 use vkgi::reference::cache::{self, CacheRecord};
-use vkgi::reference::{Bounces, PathTracer, ReferenceImages, ReferenceSettings};
+use vkgi::reference::{Bounces, PathTracer, ReferenceImages, ReferenceSettings, Strategy};
 use vkgi::scene::Scene;
 
 fn settings(width: u32, height: u32, spp: u32, bounces: Bounces, seed: u32) -> ReferenceSettings {
     ReferenceSettings {
+        strategy: Default::default(),
         width,
         height,
         spp,
@@ -41,8 +42,8 @@ fn white_furnace_matches_the_geometric_series() {
     let (rho, le) = (0.8f32, 1.0f32);
     let scene = common::furnace(rho, le);
     let cases = [
-        (Bounces::Limited(0), le * (1.0 + rho), 8, 16),
-        (Bounces::Limited(1), le * (1.0 + rho + rho * rho), 8, 16),
+        (Bounces::Limited(0), le * (1.0 + rho), 8, 512),
+        (Bounces::Limited(1), le * (1.0 + rho + rho * rho), 8, 512),
         (Bounces::Unlimited, le / (1.0 - rho), 2, 65536),
     ];
     for (bounces, expected, size, spp) in cases {
@@ -103,6 +104,129 @@ fn a_lambertian_plane_under_a_point_light_matches_the_analytic_irradiance() {
         }
         eprintln!("plane under a point light, {bounces:?}: worst relative error {worst:.2e}");
         assert!(worst < 0.01, "{bounces:?}: worst relative error {worst}");
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn a_lambertian_plane_under_a_square_area_light_matches_the_closed_form() {
+    let gpu = common::gpu();
+    let (albedo, side, height, le) = (0.6f32, 0.8f32, 1.0f32, 5.0f32);
+    let scene = common::plane_under_square_light(albedo, side, height, le);
+    let (w, h) = (32, 24);
+    let image = trace(&gpu, &scene, &settings(w, h, 4096, Bounces::Limited(0), 5)).direct;
+    let (mut worst, mut bias, mut checked) = (0.0f64, 0.0f64, 0);
+    for y in 0..h {
+        for x in 0..w {
+            // The closed form averaged over the pixel's footprint (8x8 points), for pixels that
+            // see the floor across all of it (not the emitter, not beyond the floor's middle).
+            let n = 8;
+            let mut sum = 0.0;
+            let mut covered = true;
+            for j in 0..n {
+                for i in 0..n {
+                    let px = Vec2::new(
+                        x as f32 + (i as f32 + 0.5) / n as f32,
+                        y as f32 + (j as f32 + 0.5) / n as f32,
+                    );
+                    let dir = scene.camera.ray_direction(px, w, h);
+                    let hit = scene.mesh.intersect(scene.camera.position, dir, 1e-4, 1e9);
+                    let floor = hit.filter(|hit| scene.mesh.materials[hit.triangle] == 0);
+                    let Some(hit) = floor else {
+                        covered = false;
+                        continue;
+                    };
+                    let p = scene.camera.position + dir * hit.t;
+                    covered &= p.x.abs() <= 1.5 && p.z.abs() <= 1.5;
+                    sum += common::square_light_irradiance(p, side, height, le);
+                }
+            }
+            if !covered {
+                continue;
+            }
+            let expected = f64::from(albedo) / std::f64::consts::PI * sum / f64::from(n * n);
+            let got = f64::from(image.at(x, y)[0]);
+            worst = worst.max((got / expected - 1.0).abs());
+            bias += got / expected - 1.0;
+            checked += 1;
+        }
+    }
+    let bias = bias / f64::from(checked);
+    eprintln!(
+        "plane under a square light: {checked} pixels, mean relative error {bias:.2e}, worst {worst:.2e}"
+    );
+    assert!(checked > 100, "enough floor pixels: {checked}");
+    // Unbiased (the mean over 160 pixels) and within noise per pixel (about 0.7% at 4096 spp).
+    assert!(bias.abs() < 0.003, "mean relative error {bias}");
+    assert!(worst < 0.035, "worst relative error {worst}");
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn multiple_importance_sampling_beats_either_strategy_alone() {
+    // A small bright emitter (light sampling is good at it) and a large dim one close to the
+    // floor (BSDF sampling is good at it): their combination beats both on the same samples.
+    let gpu = common::gpu();
+    let mut scene = common::plane_under_square_light(0.8, 0.1, 1.0, 200.0);
+    let wall =
+        [(-2.0, 0.0), (2.0, 0.0), (2.0, 1.2), (-2.0, 1.2)].map(|(x, y)| Vec3::new(x, y, -0.4));
+    for tri in [[0, 1, 2], [0, 2, 3]] {
+        scene
+            .mesh
+            .push_triangle(tri.map(|i| wall[i]), [Vec3::ZERO; 3], 2);
+    }
+    scene.materials.push(vkgi::scene::Material {
+        name: "dim wall".into(),
+        albedo: Vec3::ZERO,
+        emission: Vec3::splat(0.5),
+        two_sided: false,
+    });
+    let scene = Scene::new(
+        scene.name.clone(),
+        scene.mesh,
+        scene.materials,
+        vec![],
+        scene.camera,
+    )
+    .unwrap();
+    let (w, h) = (32, 24);
+    let mut tracer = PathTracer::new(&gpu, &scene, w, h).unwrap();
+    let mut with = |strategy, spp, seed| {
+        let s = ReferenceSettings {
+            strategy,
+            ..settings(w, h, spp, Bounces::Limited(0), seed)
+        };
+        tracer.render(&gpu, &s, |_, _| {}).unwrap().direct
+    };
+    let truth = with(Strategy::Mis, 8192, 11);
+    // Lit surfaces only: pixels that see the bright emitter itself are as noisy (pixel jitter
+    // across its edge) for every strategy.
+    let lit = |image: &HdrImage| {
+        let keep = |t: &[f32; 3]| t[0] < 5.0;
+        let pixels: Vec<[f32; 3]> = image
+            .pixels
+            .iter()
+            .zip(&truth.pixels)
+            .map(|(p, t)| if keep(t) { *p } else { [0.0; 3] })
+            .collect();
+        HdrImage::new(image.width, image.height, pixels)
+    };
+    let truth_lit = lit(&truth);
+    let errors: Vec<(Strategy, f64)> = [Strategy::Mis, Strategy::Light, Strategy::Bsdf]
+        .into_iter()
+        .map(|strategy| (strategy, rmse(&lit(&with(strategy, 16, 3)), &truth_lit)))
+        .collect();
+    eprintln!("RMSE at 16 spp against 8192 spp: {errors:?}");
+    let (mis, light, bsdf) = (errors[0].1, errors[1].1, errors[2].1);
+    assert!(mis < light && mis < bsdf, "{errors:?}");
+    // All three estimate the same image: with 128 times the samples their error falls about
+    // 11 times (unbiased), not to a floor of their own.
+    for (strategy, at_16) in [(Strategy::Light, light), (Strategy::Bsdf, bsdf)] {
+        let converged = rmse(&lit(&with(strategy, 2048, 5)), &truth_lit);
+        assert!(
+            converged < 0.25 * at_16,
+            "{strategy:?}: {converged} at 2048 spp, {at_16} at 16 spp"
+        );
     }
     common::assert_no_validation_errors(&gpu);
 }
@@ -241,11 +365,19 @@ fn direct_only_reference_agrees_with_the_raster_frame() {
 #[test]
 fn gpu_and_cpu_estimators_agree() {
     let gpu = common::gpu();
-    let scene = Scene::load("cornell").unwrap();
-    for bounces in [Bounces::Limited(1), Bounces::Unlimited] {
+    let cornell = Scene::load("cornell").unwrap();
+    // Emitters sampled by power and hit by bounces, combined by MIS: the same on both sides.
+    let emitting = common::plane_under_square_light(0.6, 0.8, 1.0, 5.0);
+    let cases = [
+        (&cornell, Bounces::Limited(1)),
+        (&cornell, Bounces::Unlimited),
+        (&emitting, Bounces::Limited(1)),
+        (&emitting, Bounces::Unlimited),
+    ];
+    for (scene, bounces) in cases {
         let s = settings(32, 32, 8, bounces, 11);
-        let on_gpu = trace(&gpu, &scene, &s);
-        let on_cpu = vkgi::reference::cpu::render(&scene, &s);
+        let on_gpu = trace(&gpu, scene, &s);
+        let on_cpu = vkgi::reference::cpu::render(scene, &s);
         for (part, g, c) in [
             ("direct", &on_gpu.direct, &on_cpu.direct),
             ("indirect", &on_gpu.indirect, &on_cpu.indirect),
@@ -258,7 +390,8 @@ fn gpu_and_cpu_estimators_agree() {
             let fraction = close as f64 / g.pixels.len() as f64;
             assert!(
                 fraction >= 0.99,
-                "{bounces:?} {part}: only {:.1}% of pixels agree",
+                "{} {bounces:?} {part}: only {:.1}% of pixels agree",
+                scene.name,
                 100.0 * fraction
             );
             let mean = |i: &HdrImage| {
@@ -271,7 +404,8 @@ fn gpu_and_cpu_estimators_agree() {
             let (mg, mc) = (mean(g), mean(c));
             assert!(
                 (mg - mc).abs() <= 1e-3 * mc.abs().max(1e-6),
-                "{bounces:?} {part}: {mg} vs {mc}"
+                "{} {bounces:?} {part}: {mg} vs {mc}",
+                scene.name
             );
         }
     }

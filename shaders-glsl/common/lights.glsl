@@ -39,12 +39,30 @@ vec3 light_incidence(Light light, vec3 p, out vec3 to_light, out float distance)
     return light.intensity_cos_inner.rgb * (profile / dist_sq);
 }
 
-// Which of a light's shadow views covers `p` (cube face by major axis for point lights).
+// A spot light's frame across its axis (src/scene/gpu.rs light_frame is the same).
+void light_frame(vec3 axis, out vec3 u, out vec3 v) {
+    vec3 up = abs(axis.y) > 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(0.0, 1.0, 0.0);
+    u = normalize(cross(up, axis));
+    v = cross(axis, u);
+}
+
+// Which of a light's shadow views covers `p`: cube face by major axis for point lights (6
+// views), the front or a side face of the cube around the axis for wide spots (5 views).
 uint shadow_view_index(Light light, vec3 p) {
     if (light.shadow.y <= 1u) return light.shadow.x;
     vec3 d = p - light.position_kind.xyz;
-    vec3 a = abs(d);
     uint face;
+    if (light.shadow.y == 5u) {
+        vec3 axis = light.direction_cos_outer.xyz;
+        vec3 u, v;
+        light_frame(axis, u, v);
+        vec3 l = vec3(dot(d, axis), dot(d, u), dot(d, v));
+        if (l.x >= abs(l.y) && l.x >= abs(l.z)) face = 0u;
+        else if (abs(l.y) >= abs(l.z)) face = l.y >= 0.0 ? 1u : 2u;
+        else face = l.z >= 0.0 ? 3u : 4u;
+        return light.shadow.x + face;
+    }
+    vec3 a = abs(d);
     if (a.x >= a.y && a.x >= a.z) face = d.x >= 0.0 ? 0u : 1u;
     else if (a.y >= a.z) face = d.y >= 0.0 ? 2u : 3u;
     else face = d.z >= 0.0 ? 4u : 5u;

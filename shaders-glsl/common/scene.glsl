@@ -18,7 +18,7 @@ vec3 shading_normal(vec3 interpolated, vec3 face) {
 
 struct Material {
     vec4 albedo;    // rgb diffuse albedo
-    vec4 emission;  // rgb emitted radiance
+    vec4 emission;  // rgb emitted radiance, w = 1 when emitted from both faces (else the front)
 };
 
 #endif

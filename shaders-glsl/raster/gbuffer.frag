@@ -28,5 +28,7 @@ void main() {
     out_position = vec4(in_position, 1.0);
     out_normal = vec4(n, 0.0);
     out_albedo = vec4(m.albedo.rgb, 1.0);
-    out_emission = vec4(m.emission.rgb, 0.0);
+    // Emission leaves the front face (by winding) only, unless the material is two-sided.
+    bool emits = facing > 0.0 || m.emission.w > 0.5;
+    out_emission = vec4(emits ? m.emission.rgb : vec3(0.0), 0.0);
 }

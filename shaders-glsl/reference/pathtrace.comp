@@ -1,7 +1,11 @@
 #version 460
-// The reference path tracer: Lambertian surfaces, punctual lights by next-event estimation,
-// emissive surfaces by cosine-weighted bounces. One invocation per pixel adds `samples` samples
-// to the direct and indirect sums. src/reference/cpu.rs is the same estimator on the CPU.
+// The reference path tracer: Lambertian surfaces; punctual lights by next-event estimation;
+// emissive triangles both by next-event estimation (a triangle chosen by power, a point on it
+// uniformly; src/reference/emitters.rs) and by cosine-weighted bounces that hit them, the two
+// combined by multiple importance sampling with the power heuristic. Emission leaves the front
+// face (by winding) only unless the material is two-sided. One invocation per pixel adds
+// `samples` samples to the direct and indirect sums. src/reference/cpu.rs is the same
+// estimator on the CPU.
 //
 // Light transport kept: with a bounce limit B, paths reflect at most B + 1 times (B = 0: direct
 // light only; B = 1: direct and one indirect bounce); unlimited paths end by Russian roulette
@@ -23,6 +27,8 @@ layout(binding = REFERENCE_BVH_NODES, std430) readonly buffer BvhNodes { BvhNode
 layout(binding = REFERENCE_BVH_TRIANGLES, std430) readonly buffer BvhTriangles { BvhTriangle bvh_triangles[]; };
 layout(binding = REFERENCE_DIRECT_SUM, std430) buffer DirectSum { vec4 direct_sum[]; };
 layout(binding = REFERENCE_INDIRECT_SUM, std430) buffer IndirectSum { vec4 indirect_sum[]; };
+// Emissive triangles: x = mesh triangle, y = cumulative probability (float bits).
+layout(binding = REFERENCE_EMITTERS, std430) readonly buffer Emitters { uvec2 emitters[]; };
 
 #include "common/bvh.glsl"
 
@@ -37,7 +43,24 @@ layout(push_constant) uniform Push {
     uint light_count;
     uint rr_start;
     uint has_emission;             // 0: no emissive surface, so the last bounce can find nothing
+    uint emitter_count;
+    float emitter_power;           // total emitted power (mean over RGB)
+    uint strategy;                 // REFERENCE_STRATEGY_*
 } pc;
+
+// Density per unit area of next-event estimation picking a point of a material's emitter.
+float emitter_area_pdf(Material m) {
+    float sides = m.emission.w > 0.5 ? 2.0 : 1.0;
+    return pc.emitter_power > 0.0
+        ? PI * sides * (m.emission.r + m.emission.g + m.emission.b) / 3.0 / pc.emitter_power
+        : 0.0;
+}
+
+// Power heuristic weight of a strategy of density `a` against one of density `b`.
+float power_heuristic(float a, float b) {
+    float a2 = a * a;
+    return a2 / max(a2 + b * b, 1e-30);
+}
 
 vec3 camera_ray(vec2 pixel) {
     vec2 ndc = pixel / vec2(pc.size) * 2.0 - 1.0;
@@ -61,6 +84,8 @@ void main() {
         vec3 origin = pc.camera_position_epsilon.xyz;
         vec3 dir = camera_ray(vec2(pixel) + jitter);
         vec3 throughput = vec3(1.0);
+        // Density (solid angle) of the cosine bounce that produced `dir`; 0 for camera rays.
+        float bounce_pdf = 0.0;
         for (uint depth = 0u; depth < REFERENCE_MAX_DEPTH; ++depth) {
             float t;
             vec2 uv;
@@ -75,12 +100,24 @@ void main() {
             vec3 ns = shading_normal(vertices[corners.x].normal.xyz * (1.0 - uv.x - uv.y)
                                      + vertices[corners.y].normal.xyz * uv.x
                                      + vertices[corners.z].normal.xyz * uv.y, ng);
-            if (dot(ng, dir) > 0.0) ng = -ng;  // two-sided: face the incoming ray
+            // Emission leaves the winding's front face (or both faces of a two-sided material).
+            float cos_emit = -dot(ng, dir);
+            if (dot(ng, dir) > 0.0) ng = -ng;  // two-sided reflection: face the incoming ray
             if (dot(ns, ng) < 0.0) ns = -ns;
             Material m = materials[corners.w];
 
-            vec3 emitted = throughput * m.emission.rgb;
-            if (depth <= 1u) direct += emitted; else indirect += emitted;
+            bool emits = cos_emit > 0.0 || m.emission.w > 0.5;
+            if (emits && any(greaterThan(m.emission.rgb, vec3(0.0)))) {
+                float weight = 1.0;
+                if (depth > 0u && pc.emitter_count > 0u) {
+                    float light_pdf = emitter_area_pdf(m) * t * t / max(abs(cos_emit), 1e-20);
+                    weight = pc.strategy == REFERENCE_STRATEGY_LIGHT ? 0.0
+                           : pc.strategy == REFERENCE_STRATEGY_BSDF ? 1.0
+                           : power_heuristic(bounce_pdf, light_pdf);
+                }
+                vec3 emitted = throughput * m.emission.rgb * weight;
+                if (depth <= 1u) direct += emitted; else indirect += emitted;
+            }
             if (!unlimited && depth > pc.max_bounces) break;
 
             vec3 shade_origin = p + ng * eps;
@@ -90,11 +127,53 @@ void main() {
                 vec3 e = light_incidence(lights[l], p, to_light, distance);
                 float cos_theta = dot(ns, to_light);
                 if (cos_theta <= 0.0 || dot(ng, to_light) <= 0.0 || all(equal(e, vec3(0.0)))) continue;
+                // The shadow ray leaves the offset origin aimed at the light itself.
+                vec3 to_light_offset = lights[l].position_kind.xyz - shade_origin;
+                float reach = length(to_light_offset);
                 float ts;
                 vec2 uvs;
-                if (trace_ray(shade_origin, to_light, 0.0, distance - 2.0 * eps, true, ts, uvs) >= 0) continue;
+                if (trace_ray(shade_origin, to_light_offset / reach, 0.0, reach - eps, true, ts, uvs) >= 0) continue;
                 vec3 reflected = throughput * m.albedo.rgb * INV_PI * e * cos_theta;
                 if (depth == 0u) direct += reflected; else indirect += reflected;
+            }
+
+            if (pc.emitter_count > 0u && pc.strategy != REFERENCE_STRATEGY_BSDF) {
+                uint edim = REFERENCE_EMITTER_DIM + 3u * depth;
+                float pick = random_float(pc.seed, pixel_index, sample_index, edim);
+                uint lo = 0u;
+                uint hi = pc.emitter_count - 1u;
+                while (lo < hi) {
+                    uint mid = (lo + hi) / 2u;
+                    if (uintBitsToFloat(emitters[mid].y) < pick) lo = mid + 1u; else hi = mid;
+                }
+                Triangle e_corners = triangles[emitters[lo].x];
+                vec3 ea = vertices[e_corners.x].position.xyz;
+                vec3 eb = vertices[e_corners.y].position.xyz;
+                vec3 ec = vertices[e_corners.z].position.xyz;
+                float su = sqrt(random_float(pc.seed, pixel_index, sample_index, edim + 1u));
+                float v2 = random_float(pc.seed, pixel_index, sample_index, edim + 2u);
+                vec3 q = ea * (1.0 - su) + eb * (su * (1.0 - v2)) + ec * (su * v2);
+                vec3 en = normalize(cross(eb - ea, ec - ea));
+                Material em = materials[e_corners.w];
+                vec3 d = q - shade_origin;
+                float dist2 = dot(d, d);
+                float dist = sqrt(dist2);
+                vec3 wi = d / dist;
+                float cos_s = dot(ns, wi);
+                float cos_e = -dot(en, wi);
+                if (em.emission.w > 0.5) cos_e = abs(cos_e);
+                if (cos_s > 0.0 && dot(ng, wi) > 0.0 && cos_e > 0.0) {
+                    float ts;
+                    vec2 uvs;
+                    if (trace_ray(shade_origin, wi, 0.0, dist - eps, true, ts, uvs) < 0) {
+                        float light_pdf = emitter_area_pdf(em) * dist2 / cos_e;
+                        float weight = pc.strategy == REFERENCE_STRATEGY_MIS
+                                     ? power_heuristic(light_pdf, cos_s * INV_PI) : 1.0;
+                        vec3 reflected = throughput * m.albedo.rgb * INV_PI * em.emission.rgb
+                                       * (cos_s * weight / light_pdf);
+                        if (depth == 0u) direct += reflected; else indirect += reflected;
+                    }
+                }
             }
 
             // The bounce out of the last allowed reflection only looks for emission.
@@ -104,6 +183,7 @@ void main() {
                 random_float(pc.seed, pixel_index, sample_index, dim),
                 random_float(pc.seed, pixel_index, sample_index, dim + 1u));
             if (dot(next, ng) <= 0.0) break;
+            bounce_pdf = dot(ns, next) * INV_PI;
             throughput *= m.albedo.rgb;
             if (unlimited && depth >= pc.rr_start) {
                 float survive = min(max(max(throughput.r, throughput.g), throughput.b), 0.95);

@@ -226,6 +226,10 @@ pub struct ReferenceArgs {
     /// Also write a tone-mapped PNG.
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
+    /// How emissive surfaces are sampled: mis (emitter sampling and BSDF hits combined by the
+    /// power heuristic), light (emitter sampling alone) or bsdf (BSDF hits alone).
+    #[arg(long, value_enum, default_value_t = crate::reference::Strategy::Mis)]
+    pub strategy: crate::reference::Strategy,
     /// Seed of the random numbers (the image is deterministic for a seed).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u32,

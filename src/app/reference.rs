@@ -27,6 +27,7 @@ pub fn run(args: &ReferenceArgs) -> anyhow::Result<()> {
         spp: args.spp,
         bounces: args.bounces,
         seed: args.seed,
+        strategy: args.strategy,
     };
     let key = cache::key(&scene, &settings);
     if args.reuse && args.split && cache::load(&args.out, &key).is_some() {

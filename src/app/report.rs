@@ -137,6 +137,7 @@ fn reference(
         spp: config.spp,
         bounces: Bounces::Limited(1),
         seed: 1,
+        strategy: Default::default(),
     };
     let path = config.out_dir.join("reference.exr");
     let key = cache::key(scene, &settings);

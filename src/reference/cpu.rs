@@ -1,16 +1,20 @@
-//! The path tracer's estimator on the CPU, step for step as in pathtrace.comp, with the same
-//! random numbers; tests compare it with the GPU on small images.
+//! The path tracer's estimator on the CPU, step for step as in pathtrace.comp (punctual lights
+//! and emitters by next-event estimation, emitter hits by cosine bounces, combined by multiple
+//! importance sampling), with the same random numbers; tests compare it with the GPU on small
+//! images.
 
 use glam::{Vec2, Vec3, Vec4};
 
+use super::emitters::Emitters;
 use super::rng::random_float;
 use super::{
-    Bounces, RUSSIAN_ROULETTE_START, ReferenceImages, ReferenceSettings, inverse_view_projection,
-    ray_epsilon,
+    Bounces, RUSSIAN_ROULETTE_START, ReferenceImages, ReferenceSettings, Strategy,
+    inverse_view_projection, ray_epsilon,
 };
 use crate::imageio::HdrImage;
 use crate::scene::bvh::Bvh;
 use crate::scene::{Light, Scene};
+use crate::shader_shared::REFERENCE_EMITTER_DIM;
 
 /// Irradiance factor and direction toward a light, as `light_incidence` in lights.glsl.
 fn light_incidence(light: &Light, p: Vec3) -> (Vec3, Vec3, f32) {
@@ -33,9 +37,16 @@ fn sample_cosine_hemisphere(n: Vec3, u1: f32, u2: f32) -> Vec3 {
     (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()).normalize()
 }
 
+/// Power heuristic weight of a strategy of density `a` against one of density `b`.
+fn power_heuristic(a: f32, b: f32) -> f32 {
+    let a2 = a * a;
+    a2 / (a2 + b * b).max(1e-30)
+}
+
 /// Render with the CPU estimator (single-threaded; meant for small images).
 pub fn render(scene: &Scene, settings: &ReferenceSettings) -> ReferenceImages {
     let bvh = Bvh::build(&scene.mesh);
+    let emitters = Emitters::of(scene);
     let (w, h) = (settings.width, settings.height);
     let inv = inverse_view_projection(scene, w, h);
     let eps = ray_epsilon(scene);
@@ -44,7 +55,16 @@ pub fn render(scene: &Scene, settings: &ReferenceSettings) -> ReferenceImages {
     for y in 0..h {
         for x in 0..w {
             let pixel_index = y * w + x;
-            let (d, i) = pixel(scene, &bvh, settings, inv, eps, x, y, pixel_index);
+            let (d, i) = pixel(
+                scene,
+                (&bvh, &emitters),
+                settings,
+                inv,
+                eps,
+                x,
+                y,
+                pixel_index,
+            );
             let n = settings.spp.max(1) as f32;
             direct[pixel_index as usize] = (d / n).to_array();
             indirect[pixel_index as usize] = (i / n).to_array();
@@ -59,7 +79,7 @@ pub fn render(scene: &Scene, settings: &ReferenceSettings) -> ReferenceImages {
 #[allow(clippy::too_many_arguments)]
 fn pixel(
     scene: &Scene,
-    bvh: &Bvh,
+    (bvh, emitters): (&Bvh, &Emitters),
     settings: &ReferenceSettings,
     inv: glam::Mat4,
     eps: f32,
@@ -85,6 +105,10 @@ fn pixel(
         let mut dir = (far.truncate() / far.w - near.truncate() / near.w).normalize();
         let mut origin = scene.camera.position;
         let mut throughput = Vec3::ONE;
+        // Density (solid angle) of the cosine bounce that produced `dir`; 0 for camera rays.
+        let mut bounce_pdf = 0.0f32;
+        let strategy = settings.strategy;
+        let sampled = !emitters.triangles.is_empty();
         for depth in 0..crate::shader_shared::REFERENCE_MAX_DEPTH {
             let Some(hit) = bvh.intersect(mesh, origin, dir, eps, 1e30) else {
                 break;
@@ -93,6 +117,7 @@ fn pixel(
             let [a, b, c] = mesh.triangle(t);
             let p = origin + dir * hit.t;
             let mut ng = (b - a).cross(c - a).normalize();
+            let cos_emit = -ng.dot(dir);
             if ng.dot(dir) > 0.0 {
                 ng = -ng;
             }
@@ -101,11 +126,24 @@ fn pixel(
                 ns = -ns;
             }
             let m = &scene.materials[mesh.materials[t] as usize];
-            let emitted = throughput * m.emission;
-            if depth <= 1 {
-                direct += emitted;
-            } else {
-                indirect += emitted;
+            if (cos_emit > 0.0 || m.two_sided) && m.emission.max_element() > 0.0 {
+                let weight = if depth > 0 && sampled {
+                    let light_pdf =
+                        emitters.area_pdf(m) * hit.t * hit.t / cos_emit.abs().max(1e-20);
+                    match strategy {
+                        Strategy::Light => 0.0,
+                        Strategy::Bsdf => 1.0,
+                        Strategy::Mis => power_heuristic(bounce_pdf, light_pdf),
+                    }
+                } else {
+                    1.0
+                };
+                let emitted = throughput * m.emission * weight;
+                if depth <= 1 {
+                    direct += emitted;
+                } else {
+                    indirect += emitted;
+                }
             }
             if let Bounces::Limited(max) = settings.bounces
                 && depth > max
@@ -114,13 +152,16 @@ fn pixel(
             }
             let shade_origin = p + ng * eps;
             for light in &scene.lights {
-                let (e, to_light, distance) = light_incidence(light, p);
+                let (e, to_light, _) = light_incidence(light, p);
                 let cos_theta = ns.dot(to_light);
                 if cos_theta <= 0.0 || ng.dot(to_light) <= 0.0 || e == Vec3::ZERO {
                     continue;
                 }
+                // The shadow ray leaves the offset origin aimed at the light itself.
+                let offset = light.position - shade_origin;
+                let reach = offset.length();
                 if bvh
-                    .intersect(mesh, shade_origin, to_light, 0.0, distance - 2.0 * eps)
+                    .intersect(mesh, shade_origin, offset / reach, 0.0, reach - eps)
                     .is_some()
                 {
                     continue;
@@ -132,6 +173,49 @@ fn pixel(
                     indirect += reflected;
                 }
             }
+            if sampled && strategy != Strategy::Bsdf {
+                let edim = REFERENCE_EMITTER_DIM + 3 * depth;
+                let chosen = emitters.triangles[emitters.pick(rand(edim))] as usize;
+                let [ea, eb, ec] = mesh.triangle(chosen);
+                let su = rand(edim + 1).sqrt();
+                let v2 = rand(edim + 2);
+                let q = ea * (1.0 - su) + eb * (su * (1.0 - v2)) + ec * (su * v2);
+                let en = (eb - ea).cross(ec - ea).normalize();
+                let em = &scene.materials[mesh.materials[chosen] as usize];
+                let d = q - shade_origin;
+                let dist2 = d.dot(d);
+                let dist = dist2.sqrt();
+                let wi = d / dist;
+                let cos_s = ns.dot(wi);
+                let mut cos_e = -en.dot(wi);
+                if em.two_sided {
+                    cos_e = cos_e.abs();
+                }
+                if cos_s > 0.0
+                    && ng.dot(wi) > 0.0
+                    && cos_e > 0.0
+                    && bvh
+                        .intersect(mesh, shade_origin, wi, 0.0, dist - eps)
+                        .is_none()
+                {
+                    let light_pdf = emitters.area_pdf(em) * dist2 / cos_e;
+                    let weight = if strategy == Strategy::Mis {
+                        power_heuristic(light_pdf, cos_s * std::f32::consts::FRAC_1_PI)
+                    } else {
+                        1.0
+                    };
+                    let reflected = throughput
+                        * m.albedo
+                        * std::f32::consts::FRAC_1_PI
+                        * em.emission
+                        * (cos_s * weight / light_pdf);
+                    if depth == 0 {
+                        direct += reflected;
+                    } else {
+                        indirect += reflected;
+                    }
+                }
+            }
             // The bounce out of the last allowed reflection only looks for emission.
             if settings.bounces == Bounces::Limited(depth) && !has_emission {
                 break;
@@ -141,6 +225,7 @@ fn pixel(
             if next.dot(ng) <= 0.0 {
                 break;
             }
+            bounce_pdf = ns.dot(next) * std::f32::consts::FRAC_1_PI;
             throughput *= m.albedo;
             if settings.bounces == Bounces::Unlimited && depth >= RUSSIAN_ROULETTE_START {
                 let survive = throughput.max_element().min(0.95);

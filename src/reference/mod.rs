@@ -7,6 +7,7 @@
 
 pub mod cache;
 pub mod cpu;
+pub mod emitters;
 pub mod rng;
 
 use ash::vk;
@@ -74,6 +75,39 @@ impl Bounces {
     }
 }
 
+/// Which strategies light surfaces from emissive triangles.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "lowercase")]
+pub enum Strategy {
+    /// Emitter sampling and BSDF-sampled hits, combined by the power heuristic.
+    #[default]
+    Mis,
+    /// Emitter sampling (next-event estimation) alone.
+    Light,
+    /// Cosine-sampled bounces that hit emitters alone.
+    Bsdf,
+}
+
+impl Strategy {
+    fn shader_value(self) -> u32 {
+        match self {
+            Strategy::Mis => ids::REFERENCE_STRATEGY_MIS,
+            Strategy::Light => ids::REFERENCE_STRATEGY_LIGHT,
+            Strategy::Bsdf => ids::REFERENCE_STRATEGY_BSDF,
+        }
+    }
+}
+
 /// What to render.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct ReferenceSettings {
@@ -82,6 +116,9 @@ pub struct ReferenceSettings {
     pub spp: u32,
     pub bounces: Bounces,
     pub seed: u32,
+    /// How emissive surfaces are sampled (all three converge to the same image).
+    #[serde(default)]
+    pub strategy: Strategy,
 }
 
 /// The estimate, split into direct light (emission seen by the camera and light reflected once)
@@ -117,6 +154,9 @@ crate::push_constants! {
         light_count: u32,
         rr_start: u32,
         has_emission: u32,
+        emitter_count: u32,
+        emitter_power: f32,
+        strategy: u32,
     }
 }
 
@@ -152,6 +192,7 @@ pub struct PathTracer {
     scene: SceneBuffers,
     bvh_nodes: Buffer,
     bvh_triangles: Buffer,
+    emitters: Buffer,
     direct_sum: Buffer,
     indirect_sum: Buffer,
     direct_readback: Buffer,
@@ -186,7 +227,15 @@ impl PathTracer {
             })
         };
         let camera = scene.camera.position;
+        let found = emitters::Emitters::of(scene);
+        let emitter_records: Vec<[u32; 2]> = found
+            .triangles
+            .iter()
+            .zip(&found.cdf)
+            .map(|(&t, &c)| [t, c.to_bits()])
+            .collect();
         Ok(PathTracer {
+            emitters: gpu.upload_storage("emitters", bytemuck::cast_slice(&emitter_records))?,
             pipeline,
             scene: scene_buffers,
             bvh_nodes,
@@ -212,6 +261,9 @@ impl PathTracer {
                         .iter()
                         .any(|m| m.emission.max_element() > 0.0),
                 ),
+                emitter_count: found.triangles.len() as u32,
+                emitter_power: found.power as f32,
+                strategy: Strategy::default().shader_value(),
             },
         })
     }
@@ -257,6 +309,7 @@ impl PathTracer {
                     Binding::read(ids::REFERENCE_BVH_TRIANGLES, &self.bvh_triangles),
                     Binding::write(ids::REFERENCE_DIRECT_SUM, &self.direct_sum),
                     Binding::write(ids::REFERENCE_INDIRECT_SUM, &self.indirect_sum),
+                    Binding::read(ids::REFERENCE_EMITTERS, &self.emitters),
                 ],
                 push: &push,
                 threads: [push.size[0], push.size[1], 1],
@@ -302,6 +355,7 @@ impl PathTracer {
             "the path tracer was built for another image size"
         );
         self.push.seed = settings.seed;
+        self.push.strategy = settings.strategy.shader_value();
         self.push.max_bounces = settings.bounces.shader_value();
         let pixels = (settings.width * settings.height) as usize;
         let mut sums = HostSums {

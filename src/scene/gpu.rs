@@ -50,7 +50,17 @@ pub struct GpuShadowView {
 /// Extra field of view around a spot cone, so the cone edge lies inside the shadow map.
 const SPOT_FOV_MARGIN_DEG: f32 = 4.0;
 
-/// One perspective view per spot light, six (cube faces) per point light.
+/// The spot light's local frame (axis, u, v): u and v span the plane across the axis. The same
+/// construction is `light_frame` in shaders-glsl/common/lights.glsl.
+pub fn light_frame(axis: Vec3) -> (Vec3, Vec3, Vec3) {
+    let up = if axis.y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
+    let u = up.cross(axis).normalize();
+    (axis, u, axis.cross(u))
+}
+
+/// One perspective view per spot light up to [`crate::scene::light::WIDE_SPOT_DEG`], five
+/// faces of a cube around the axis for a wider one (front, then ±u, ±v of its frame), six
+/// (cube faces) per point light.
 pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShadowView>) {
     let (lo, hi) = scene.extended_bounds();
     let extent = (hi - lo).length().max(1e-3);
@@ -88,8 +98,16 @@ pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShad
                 ..
             } => {
                 let axis = direction.normalize();
-                let up = if axis.y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
-                push_view(axis, up, 2.0 * cone_angle_deg + SPOT_FOV_MARGIN_DEG);
+                if light.shadow_view_count() == 1 {
+                    let up = if axis.y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
+                    push_view(axis, up, 2.0 * cone_angle_deg + SPOT_FOV_MARGIN_DEG);
+                } else {
+                    let (_, u, v) = light_frame(axis);
+                    push_view(axis, u, 90.0);
+                    for side in [u, -u, v, -v] {
+                        push_view(side, axis, 90.0);
+                    }
+                }
                 (LIGHT_KIND_SPOT, axis)
             }
             LightKind::Point => {
@@ -150,7 +168,10 @@ impl SceneBuffers {
             .iter()
             .map(|m| GpuMaterial {
                 albedo: m.albedo.extend(0.0).to_array(),
-                emission: m.emission.extend(0.0).to_array(),
+                emission: m
+                    .emission
+                    .extend(f32::from(u8::from(m.two_sided)))
+                    .to_array(),
             })
             .collect();
         let (lights, views) = shadow_views(scene, shadow_map_size);

@@ -3,6 +3,13 @@
 
 use glam::Vec3;
 
+/// Widest spot cone (half-angle, degrees) one perspective shadow view covers; wider spots, up
+/// to the 90° hemisphere, use five views.
+pub const WIDE_SPOT_DEG: f32 = 60.0;
+
+/// Widest spot cone (half-angle, degrees): a uniform hemisphere.
+pub const MAX_CONE_DEG: f32 = 90.0;
+
 /// The shape of a light's emission.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
@@ -30,10 +37,12 @@ pub struct Light {
 }
 
 impl Light {
-    /// Shadow (and RSM) views the light needs: one per spot light, six (cube faces) per point
-    /// light.
+    /// Shadow (and RSM) views the light needs: one per spot light up to [`WIDE_SPOT_DEG`],
+    /// five (the faces of a cube around its axis but the back one) for a wider spot, six (cube
+    /// faces) per point light.
     pub fn shadow_view_count(&self) -> u32 {
         match self.kind {
+            LightKind::Spot { cone_angle_deg, .. } if cone_angle_deg > WIDE_SPOT_DEG => 5,
             LightKind::Spot { .. } => 1,
             LightKind::Point => 6,
         }

@@ -19,12 +19,15 @@ pub use light::{Light, LightKind};
 
 use crate::error::InputError;
 
-/// A Lambertian material: diffuse albedo in [0, 1] and emitted radiance (W/(m²·sr)).
+/// A Lambertian material: diffuse albedo in [0, 1] and emitted radiance (W/(m²·sr)), emitted
+/// from the front face (by winding) only, unless `two_sided`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub name: String,
     pub albedo: Vec3,
     pub emission: Vec3,
+    /// Emit from both faces (e.g. glTF's doubleSided); surfaces reflect from both either way.
+    pub two_sided: bool,
 }
 
 /// An indexed triangle mesh: unique vertices (position and shading normal) and three vertex
@@ -308,9 +311,13 @@ fn validate_light(index: usize, mut light: Light) -> Result<Light, String> {
             ));
         }
         *direction = unit;
-        if !(cone_angle_deg.is_finite() && *cone_angle_deg > 0.0 && *cone_angle_deg <= 85.0) {
+        if !(cone_angle_deg.is_finite()
+            && *cone_angle_deg > 0.0
+            && *cone_angle_deg <= light::MAX_CONE_DEG)
+        {
             return Err(format!(
-                "{what}: cone_angle is the half-angle of the cone and must be in (0, 85] degrees"
+                "{what}: cone_angle is the half-angle of the cone and must be in (0, {}] degrees",
+                light::MAX_CONE_DEG
             ));
         }
         if !(penumbra_deg.is_finite() && (0.0..=*cone_angle_deg).contains(penumbra_deg)) {
@@ -337,6 +344,7 @@ mod tests {
             name: "m".into(),
             albedo: Vec3::splat(0.5),
             emission: Vec3::ZERO,
+            two_sided: false,
         }]
     }
 

@@ -358,6 +358,7 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
             name: "default".into(),
             albedo: Vec3::splat(DEFAULT_ALBEDO),
             emission: Vec3::ZERO,
+            two_sided: false,
         });
     }
     Ok((mesh, materials))
@@ -382,6 +383,7 @@ fn convert_material(file: &str, m: &tobj::Material) -> Result<Material, InputErr
         name: m.name.clone(),
         albedo,
         emission,
+        two_sided: false,
     })
 }
 

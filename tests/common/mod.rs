@@ -126,6 +126,8 @@ pub fn furnace(albedo: f32, emission: f32) -> Scene {
         name: "furnace".into(),
         albedo: Vec3::splat(albedo),
         emission: Vec3::splat(emission),
+        // The camera sees the enclosure from inside, against its outward winding.
+        two_sided: true,
     };
     let camera = Camera {
         position: Vec3::ZERO,
@@ -155,6 +157,7 @@ pub fn plane_under_point_light(albedo: f32, flux: f32) -> Scene {
         name: "plane".into(),
         albedo: Vec3::splat(albedo),
         emission: Vec3::ZERO,
+        two_sided: false,
     };
     let light = Light {
         position: Vec3::new(0.3, 1.0, -0.2),
@@ -211,4 +214,61 @@ pub fn indirect_only(width: u32, height: u32) -> FrameOptions {
 
 pub fn mean(pixels: &[[f32; 3]]) -> f64 {
     pixels.iter().map(|p| f64::from(luminance(*p))).sum::<f64>() / pixels.len() as f64
+}
+
+/// A 4 m Lambertian floor (albedo `albedo`) at y = 0 and, `height` above its centre, a square
+/// emitter of side `side` facing down (one-sided) with radiance `le`; seen from the side.
+pub fn plane_under_square_light(albedo: f32, side: f32, height: f32, le: f32) -> Scene {
+    let mut mesh = Mesh::default();
+    let quad = |mesh: &mut Mesh, corners: [Vec3; 4], material: u32| {
+        for tri in [[0, 1, 2], [0, 2, 3]] {
+            mesh.push_triangle(tri.map(|i| corners[i]), [Vec3::ZERO; 3], material);
+        }
+    };
+    let floor =
+        [(-2.0, -2.0), (-2.0, 2.0), (2.0, 2.0), (2.0, -2.0)].map(|(x, z)| Vec3::new(x, 0.0, z));
+    quad(&mut mesh, floor, 0);
+    let r = 0.5 * side;
+    // Winding (-x,-z) -> (r,-z) -> (r,z): its normal points down, toward the floor.
+    let light = [(-r, -r), (r, -r), (r, r), (-r, r)].map(|(x, z)| Vec3::new(x, height, z));
+    quad(&mut mesh, light, 1);
+    let materials = vec![
+        Material {
+            name: "floor".into(),
+            albedo: Vec3::splat(albedo),
+            emission: Vec3::ZERO,
+            two_sided: false,
+        },
+        Material {
+            name: "light".into(),
+            albedo: Vec3::ZERO,
+            emission: Vec3::splat(le),
+            two_sided: false,
+        },
+    ];
+    let camera = Camera {
+        position: Vec3::new(0.0, 0.45 * height, 2.5),
+        target: Vec3::new(0.0, 0.0, -0.3),
+        up: Vec3::Y,
+        vfov_deg: 60.0,
+    };
+    Scene::new("square light".into(), mesh, materials, vec![], camera).unwrap()
+}
+
+/// Irradiance at floor point `p` (y = 0) from a square emitter of side `side` and radiance
+/// `le` parallel to the floor `height` above the origin: the closed form of a parallel
+/// rectangle, summed over the four rectangles that meet at the point below `p`.
+pub fn square_light_irradiance(p: Vec3, side: f32, height: f32, le: f32) -> f64 {
+    let h = f64::from(height);
+    // ∫∫ over [0,a]x[0,b] of h² / (h² + u² + v²)² du dv.
+    let corner = |a: f64, b: f64| {
+        let (x, y) = (a / h, b / h);
+        let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+        0.5 * (x / sx * (y / sx).atan() + y / sy * (x / sy).atan())
+    };
+    let signed = |u: f64, v: f64| u.signum() * v.signum() * corner(u.abs(), v.abs());
+    let r = 0.5 * f64::from(side);
+    let (x0, x1) = (-r - f64::from(p.x), r - f64::from(p.x));
+    let (z0, z1) = (-r - f64::from(p.z), r - f64::from(p.z));
+    f64::from(le) * (signed(x1, z1) - signed(x0, z1) - signed(x1, z0) + signed(x0, z0))
 }

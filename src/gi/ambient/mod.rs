@@ -128,6 +128,7 @@ impl Ambient {
                 spp: settings.u32("ambient-spp")?,
                 bounces: Bounces::Limited(1),
                 seed: 1,
+                strategy: Default::default(),
             },
         };
         let irradiance = fitter.fit(gpu)?;

@@ -1,0 +1,143 @@
+//! The emissive triangles of a scene, sampled by power for next-event estimation: a triangle is
+//! chosen with probability power / total power, then a point on it uniformly. The power of a
+//! triangle is its mean emitted radiance over RGB times its area times π (one-sided) or 2π
+//! (two-sided), so the density per unit area of the chosen point is
+//! π·sides·mean(Le) / total power, the same for every point of one material: a BSDF-sampled hit
+//! on an emitter finds its light-sampling density from its material alone (MIS).
+
+use glam::Vec3;
+
+use crate::scene::{Material, Scene};
+
+/// Emitters in the order the GPU buffer holds them, with their cumulative distribution.
+#[derive(Clone, Debug, Default)]
+pub struct Emitters {
+    /// Mesh triangle index of each emitter.
+    pub triangles: Vec<u32>,
+    /// Cumulative probability up to and including each emitter (the last is 1).
+    pub cdf: Vec<f32>,
+    /// Total emitted power (W, mean over RGB).
+    pub power: f64,
+}
+
+/// Mean emitted radiance over RGB times the faces it leaves: the power per area / π.
+pub fn radiant_weight(m: &Material) -> f64 {
+    let sides = if m.two_sided { 2.0 } else { 1.0 };
+    sides * f64::from(m.emission.element_sum()) / 3.0
+}
+
+impl Emitters {
+    pub fn of(scene: &Scene) -> Emitters {
+        let mesh = &scene.mesh;
+        let mut triangles = Vec::new();
+        let mut powers = Vec::new();
+        for t in 0..mesh.triangle_count() {
+            let weight = radiant_weight(&scene.materials[mesh.materials[t] as usize]);
+            if weight <= 0.0 {
+                continue;
+            }
+            let [a, b, c] = mesh.triangle(t).map(Vec3::as_dvec3);
+            let area = 0.5 * (b - a).cross(c - a).length();
+            let power = std::f64::consts::PI * weight * area;
+            if power > 0.0 {
+                triangles.push(t as u32);
+                powers.push(power);
+            }
+        }
+        let total: f64 = powers.iter().sum();
+        let mut running = 0.0;
+        let mut cdf: Vec<f32> = powers
+            .iter()
+            .map(|p| {
+                running += p;
+                (running / total) as f32
+            })
+            .collect();
+        if let Some(last) = cdf.last_mut() {
+            *last = 1.0;
+        }
+        Emitters {
+            triangles,
+            cdf,
+            power: total,
+        }
+    }
+
+    /// The emitter the uniform number `u` picks (as the shader's binary search).
+    pub fn pick(&self, u: f32) -> usize {
+        let (mut lo, mut hi) = (0, self.cdf.len().saturating_sub(1));
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if self.cdf[mid] < u {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// Density per unit area of sampling a point on an emitter of material `m`.
+    pub fn area_pdf(&self, m: &Material) -> f32 {
+        if self.power > 0.0 {
+            (std::f64::consts::PI * radiant_weight(m) / self.power) as f32
+        } else {
+            0.0
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Camera, Mesh};
+
+    fn scene(emissions: &[(f32, bool, f32)]) -> Scene {
+        let mut mesh = Mesh::default();
+        let mut materials = Vec::new();
+        for (k, &(le, two_sided, size)) in emissions.iter().enumerate() {
+            let o = Vec3::new(k as f32 * 10.0, 0.0, 0.0);
+            mesh.push_triangle(
+                [o, o + Vec3::X * size, o + Vec3::Z * size],
+                [Vec3::ZERO; 3],
+                k as u32,
+            );
+            materials.push(Material {
+                name: format!("m{k}"),
+                albedo: Vec3::splat(0.5),
+                emission: Vec3::splat(le),
+                two_sided,
+            });
+        }
+        let camera = Camera {
+            position: Vec3::new(0.0, 5.0, 5.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            vfov_deg: 60.0,
+        };
+        match Scene::new("e".into(), mesh, materials, vec![], camera) {
+            Ok(s) => s,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    #[test]
+    fn triangles_are_chosen_by_power_and_densities_integrate_to_one() {
+        // Powers π·1·2·0.5 (two-sided, area 0.5), 0 (dark), π·3·1·2 (one-sided, area 2).
+        let s = scene(&[(1.0, true, 1.0), (0.0, false, 1.0), (3.0, false, 2.0)]);
+        let e = Emitters::of(&s);
+        assert_eq!(e.triangles, vec![0, 2]);
+        let p0 = std::f64::consts::PI;
+        let p2 = std::f64::consts::PI * 6.0;
+        assert!((e.power - (p0 + p2)).abs() < 1e-9);
+        assert!((f64::from(e.cdf[0]) - p0 / (p0 + p2)).abs() < 1e-6);
+        assert_eq!(e.pick(0.0), 0);
+        assert_eq!(e.pick(0.99), 1);
+        // ∫ pdf dA over every emitter = 1.
+        let total: f64 = [(0usize, 0.5f64), (2, 2.0)]
+            .iter()
+            .map(|&(m, area)| f64::from(e.area_pdf(&s.materials[m])) * area)
+            .sum();
+        assert!((total - 1.0).abs() < 1e-6, "{total}");
+    }
+}
