@@ -78,6 +78,7 @@ shared_constants! {
     // ---- lights ----
     LIGHT_KIND_SPOT: u32 = 0;
     LIGHT_KIND_POINT: u32 = 1;
+    LIGHT_KIND_COSINE: u32 = 2;
     /// Shadow-map texels a PCF footprint spans on each side of its centre.
     SHADOW_PCF_RADIUS: i32 = 1;
 }

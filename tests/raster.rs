@@ -226,3 +226,41 @@ fn two_rooms_scene_renders_its_lit_room() {
         hdr.len()
     );
 }
+
+#[test]
+fn area_light_samples_converge_to_the_path_traced_direct_light() {
+    // The Cornell box lit by its published ceiling light alone: the rasteriser sees the light
+    // as N cosine-lobed lights on it; its direct light approaches the path tracer's direct part
+    // (which samples the light exactly) as N grows.
+    let gpu = common::gpu();
+    let (w, h) = (64, 48);
+    let mut scene = Scene::load("cornell-area").unwrap();
+    let settings = vkgi::reference::ReferenceSettings {
+        width: w,
+        height: h,
+        spp: 512,
+        bounces: vkgi::reference::Bounces::Limited(0),
+        seed: 2,
+        strategy: Default::default(),
+    };
+    let mut tracer = vkgi::reference::PathTracer::new(&gpu, &scene, w, h).unwrap();
+    let truth = tracer.render(&gpu, &settings, |_, _| {}).unwrap().direct;
+    // Lit surfaces only: the light itself, seen directly, is the same in both.
+    let lit: Vec<bool> = truth.pixels.iter().map(|p| p[0] < 5.0).collect();
+    let mut errors = Vec::new();
+    for samples in [1, 4, 16] {
+        scene.area_samples = samples;
+        let (_, pixels) = common::render(&gpu, &scene, w, h);
+        let image = vkgi::imageio::HdrImage::new(w, h, pixels);
+        let m = vkgi::metrics::compare(&image, &truth, Some(&lit)).unwrap();
+        errors.push((samples, m.rmse, m.rel_mse));
+    }
+    eprintln!("area samples against the path-traced direct light: {errors:?}");
+    assert!(
+        errors
+            .windows(2)
+            .all(|e| e[1].1 < e[0].1 && e[1].2 < e[0].2),
+        "error falls with the sample count: {errors:?}"
+    );
+    common::assert_no_validation_errors(&gpu);
+}

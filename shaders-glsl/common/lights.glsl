@@ -1,6 +1,7 @@
 #ifndef VKGI_LIGHTS_GLSL
 #define VKGI_LIGHTS_GLSL
-// Punctual lights and their shadow maps. The Rust side is src/scene/gpu.rs (GpuLight,
+// Punctual lights (point, spot, and the cosine lobes that sample area lights) and their shadow
+// maps. The Rust side is src/scene/gpu.rs (GpuLight,
 // GpuShadowView) and src/scene/light.rs, whose spot profile this must match exactly.
 
 struct Light {
@@ -15,6 +16,7 @@ struct ShadowView {
     vec4 params;               // x = shadow texel size per unit distance, y near, z far,
                                // w = 2 tan(fov/2)
     vec4 axis_light;           // xyz view axis, w = light index
+    vec4 origin;               // xyz the light's position, w = 1
 };
 
 float spot_profile(float cos_angle, float cos_outer, float cos_inner) {
@@ -32,9 +34,12 @@ vec3 light_incidence(Light light, vec3 p, out vec3 to_light, out float distance)
     distance = sqrt(dist_sq);
     to_light = d / distance;
     float profile = 1.0;
-    if (uint(light.position_kind.w) == LIGHT_KIND_SPOT) {
+    uint kind = uint(light.position_kind.w);
+    if (kind == LIGHT_KIND_SPOT) {
         profile = spot_profile(dot(light.direction_cos_outer.xyz, -to_light),
                                light.direction_cos_outer.w, light.intensity_cos_inner.w);
+    } else if (kind == LIGHT_KIND_COSINE) {
+        profile = max(dot(light.direction_cos_outer.xyz, -to_light), 0.0);
     }
     return light.intensity_cos_inner.rgb * (profile / dist_sq);
 }

@@ -81,6 +81,10 @@ pub struct FrameArgs {
     /// reference's indirect part.
     #[arg(long)]
     pub indirect_only: bool,
+    /// Cosine-lobed lights the rasteriser and the RSM-based methods sample the scene's emissive
+    /// triangles with (the path tracer samples the triangles themselves).
+    #[arg(long, default_value_t = crate::scene::DEFAULT_AREA_SAMPLES, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub area_samples: u32,
     /// How a GI method's independent parts (e.g. colour channels) are submitted: auto (async
     /// when the device has two or more compute queues), sequential (one command buffer), async
     /// (one submission per part, each on a compute queue).

@@ -91,6 +91,8 @@ pub struct Scaling {
 
 #[derive(Clone, Debug, Serialize)]
 pub struct ProfileResult {
+    /// The scene's statistics line (triangles, emitters, lights, bounds).
+    pub scene: String,
     pub device: String,
     pub driver: String,
     pub queue_plan: String,
@@ -170,6 +172,7 @@ pub fn run(
     mut progress: impl FnMut(u32, u32),
 ) -> anyhow::Result<ProfileResult> {
     let scene = Scene::load(&config.scene)?;
+    let statistics = scene.statistics();
     let mut plan = Vec::new();
     for entry in entries(&config.methods)? {
         for (value, settings) in configurations(entry, &config.grid)? {
@@ -276,6 +279,7 @@ pub fn run(
         });
     }
     Ok(ProfileResult {
+        scene: statistics,
         device: gpu.info.name.clone(),
         driver: gpu.info.driver.clone(),
         queue_plan: gpu.queues.describe(),
@@ -328,6 +332,7 @@ impl ProfileResult {
     /// The table for humans.
     pub fn table(&self) -> String {
         let mut out = String::new();
+        let _ = writeln!(out, "{}", self.scene);
         let _ = writeln!(out, "device: {} ({})", self.device, self.driver);
         let _ = writeln!(out, "queue plan: {}", self.queue_plan);
         let _ = writeln!(

@@ -20,7 +20,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         imageio::check_image_output(path, ImageKind::Hdr)?;
     }
     output::check_profile_outputs(&args.profile)?;
-    let scene = Scene::load(&args.scene)?;
+    let mut scene = Scene::load(&args.scene)?;
+    scene.area_samples = args.frame.area_samples;
+    log::info!("{}", scene.statistics());
     let chosen = method::choose(&args.gi.method, &args.gi.settings.values)?;
     if chosen.is_none() && args.frame.indirect_only {
         crate::bad_input!(
@@ -41,7 +43,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         None => None,
     };
     let method = gi.as_mut().map(|g| g.as_mut() as &mut dyn GiMethod);
-    let ring = run_frames(&gpu, &mut frame, method, 0, frames)?;
+    let mut ring = run_frames(&gpu, &mut frame, method, 0, frames)?;
+    ring.profiler.add_note(scene.statistics());
     check_validation(&gpu)?;
     if let Some(c) = gi.as_ref().and_then(|g| g.convergence()) {
         log::info!("after {frames} frames: {} {:.3e}", c.measure, c.remaining);

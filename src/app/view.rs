@@ -81,7 +81,9 @@ fn setting_key(settings: &Settings, code: KeyCode) -> Option<(&'static Setting, 
 }
 
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
-    let scene = Scene::load(&args.scene)?;
+    let mut scene = Scene::load(&args.scene)?;
+    scene.area_samples = args.frame.area_samples;
+    log::info!("{}", scene.statistics());
     if args.frames == Some(0) {
         crate::bad_input!("--frames must be at least 1");
     }

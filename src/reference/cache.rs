@@ -71,7 +71,7 @@ pub fn scene_hash(scene: &Scene) -> String {
         floats.extend(l.intensity().to_array());
         let (outer, inner) = l.cone_cosines();
         floats.extend([outer, inner]);
-        if let crate::scene::LightKind::Spot { direction, .. } = l.kind {
+        if let Some(direction) = l.axis() {
             floats.extend(direction.to_array());
         }
     }

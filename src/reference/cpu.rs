@@ -5,7 +5,6 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::emitters::Emitters;
 use super::rng::random_float;
 use super::{
     Bounces, RUSSIAN_ROULETTE_START, ReferenceImages, ReferenceSettings, Strategy,
@@ -13,6 +12,7 @@ use super::{
 };
 use crate::imageio::HdrImage;
 use crate::scene::bvh::Bvh;
+use crate::scene::emitters::Emitters;
 use crate::scene::{Light, Scene};
 use crate::shader_shared::REFERENCE_EMITTER_DIM;
 

@@ -7,7 +7,7 @@
 
 pub mod cache;
 pub mod cpu;
-pub mod emitters;
+
 pub mod rng;
 
 use ash::vk;
@@ -210,7 +210,7 @@ impl PathTracer {
             &Specialization::new(),
         )?;
         let bvh = Bvh::build(&scene.mesh);
-        let scene_buffers = SceneBuffers::upload(gpu, scene, 16)?;
+        let scene_buffers = SceneBuffers::upload(gpu, scene, &scene.lights, 16)?;
         let bvh_nodes = gpu.upload_storage("bvh nodes", bytemuck::cast_slice(&bvh.nodes))?;
         let bvh_triangles = gpu.upload_storage(
             "bvh triangles",
@@ -227,7 +227,7 @@ impl PathTracer {
             })
         };
         let camera = scene.camera.position;
-        let found = emitters::Emitters::of(scene);
+        let found = crate::scene::emitters::Emitters::of(scene);
         let emitter_records: Vec<[u32; 2]> = found
             .triangles
             .iter()
@@ -271,7 +271,7 @@ impl PathTracer {
     /// Take the scene's lights as they are now (moved, aimed or dimmed; the same number of
     /// lights as when the tracer was made).
     pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) -> GpuResult<()> {
-        let (lights, _) = shadow_views(scene, 16);
+        let (lights, _) = shadow_views(scene, &scene.lights, 16);
         if lights.len() as u32 != self.push.light_count {
             return Err(crate::gpu::GpuError::Setup(format!(
                 "the path tracer was built for {} lights, not {}",

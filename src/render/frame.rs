@@ -122,15 +122,15 @@ impl Frame {
             ))
             .into());
         }
-        let shadow_layers = scene
-            .lights
+        let raster_lights = scene.raster_lights();
+        let shadow_layers = raster_lights
             .iter()
             .map(|l| l.shadow_view_count())
             .sum::<u32>()
             .max(1);
         check_layered_image(
             gpu,
-            &format!("the shadow map of {} light(s)", scene.lights.len()),
+            &format!("the shadow map of {} light(s)", raster_lights.len()),
             (options.shadow_map_size, shadow_layers, 4),
             "use fewer lights or a smaller --shadow-map",
         )?;
@@ -145,7 +145,8 @@ impl Frame {
             &format!("the triangle buffer of {} triangles", mesh.triangle_count()),
             mesh.triangle_count() as u64 * 16,
         )?;
-        let scene_buffers = SceneBuffers::upload(gpu, scene, options.shadow_map_size)?;
+        let scene_buffers =
+            SceneBuffers::upload(gpu, scene, &raster_lights, options.shadow_map_size)?;
         let shadow_map = gpu.create_image(&ImageDesc {
             layers: shadow_layers,
             array: true,
@@ -213,8 +214,12 @@ impl Frame {
     /// writes them into the light buffers before anything reads them. The lights' kinds must
     /// be those the frame was made with.
     pub fn set_lights(&mut self, scene: &Scene) {
-        let (lights, views) = crate::scene::gpu::shadow_views(scene, self.options.shadow_map_size);
-        self.scene.set_shadow_views(scene, &views);
+        let (lights, views) = crate::scene::gpu::shadow_views(
+            scene,
+            &scene.raster_lights(),
+            self.options.shadow_map_size,
+        );
+        self.scene.set_shadow_views(&views);
         self.lights = scene.lights.clone();
         self.pending_lights = Some((
             bytemuck::cast_slice(&lights).to_vec(),

@@ -26,13 +26,14 @@ const BUILTINS: &[Builtin] = &[
     },
 ];
 
-/// Names of the built-in scenes.
+/// Names of the built-in scenes stored as files (the generated ones are in
+/// [`super::generate::NAMES`]).
 pub const NAMES: &[&str] = &["cornell", "two-rooms"];
 
-/// The built-in scene called `name`, if there is one.
+/// The built-in (stored or generated) scene called `name`, if there is one.
 pub fn load(name: &str) -> Result<Option<Scene>, InputError> {
     let Some(builtin) = BUILTINS.iter().find(|b| b.name == name) else {
-        return Ok(None);
+        return super::generate::load(name);
     };
     load_embedded(builtin.name, builtin.scene_file, builtin.obj, builtin.mtl).map(Some)
 }

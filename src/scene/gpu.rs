@@ -5,9 +5,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::camera::rh::{proj::vulkan, view::look_at_mat4};
 use glam::{Mat4, Vec3};
 
-use super::{LightKind, Scene};
+use super::{Light, LightKind, Scene};
 use crate::gpu::{Buffer, Gpu, GpuResult};
-use crate::shader_shared::{LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
+use crate::shader_shared::{LIGHT_KIND_COSINE, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -45,6 +45,8 @@ pub struct GpuShadowView {
     pub params: [f32; 4],
     /// xyz = the view's axis, w = index of the light.
     pub axis_light: [f32; 4],
+    /// xyz = the light's position (the view's eye), w = 1.
+    pub origin: [f32; 4],
 }
 
 /// Extra field of view around a spot cone, so the cone edge lies inside the shadow map.
@@ -61,12 +63,20 @@ pub fn light_frame(axis: Vec3) -> (Vec3, Vec3, Vec3) {
 /// One perspective view per spot light up to [`crate::scene::light::WIDE_SPOT_DEG`], five
 /// faces of a cube around the axis for a wider one (front, then ±u, ±v of its frame), six
 /// (cube faces) per point light.
-pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShadowView>) {
-    let (lo, hi) = scene.extended_bounds();
+pub fn shadow_views(
+    scene: &Scene,
+    scene_lights: &[Light],
+    map_size: u32,
+) -> (Vec<GpuLight>, Vec<GpuShadowView>) {
+    let (lo, hi) = scene_lights
+        .iter()
+        .fold((scene.bounds_min, scene.bounds_max), |(lo, hi), l| {
+            (lo.min(l.position), hi.max(l.position))
+        });
     let extent = (hi - lo).length().max(1e-3);
     let mut lights = Vec::new();
     let mut views = Vec::new();
-    for light in &scene.lights {
+    for light in scene_lights {
         let first = views.len() as u32;
         let (cos_outer, cos_inner) = light.cone_cosines();
         let far_for = |p: Vec3| {
@@ -89,6 +99,7 @@ pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShad
                 view_projection: (proj * view).to_cols_array_2d(),
                 params: [extent / map_size as f32, near, far, extent],
                 axis_light: [dir.x, dir.y, dir.z, light_index],
+                origin: light.position.extend(1.0).to_array(),
             });
         };
         let (kind, axis) = match light.kind {
@@ -109,6 +120,15 @@ pub fn shadow_views(scene: &Scene, map_size: u32) -> (Vec<GpuLight>, Vec<GpuShad
                     }
                 }
                 (LIGHT_KIND_SPOT, axis)
+            }
+            LightKind::Cosine { direction } => {
+                let axis = direction.normalize();
+                let (_, u, v) = light_frame(axis);
+                push_view(axis, u, 90.0);
+                for side in [u, -u, v, -v] {
+                    push_view(side, axis, 90.0);
+                }
+                (LIGHT_KIND_COSINE, axis)
             }
             LightKind::Point => {
                 // Face order matches the major-axis selection in lights.glsl: +x -x +y -y +z -z.
@@ -161,7 +181,14 @@ pub struct SceneBuffers {
 }
 
 impl SceneBuffers {
-    pub fn upload(gpu: &Gpu, scene: &Scene, shadow_map_size: u32) -> GpuResult<SceneBuffers> {
+    /// The scene's geometry and materials, and `lights` (the scene's own for the path tracer;
+    /// with area-light samples for the rasteriser, see [`Scene::raster_lights`]).
+    pub fn upload(
+        gpu: &Gpu,
+        scene: &Scene,
+        lights: &[Light],
+        shadow_map_size: u32,
+    ) -> GpuResult<SceneBuffers> {
         let mesh = &scene.mesh;
         let materials: Vec<GpuMaterial> = scene
             .materials
@@ -174,7 +201,7 @@ impl SceneBuffers {
                     .to_array(),
             })
             .collect();
-        let (lights, views) = shadow_views(scene, shadow_map_size);
+        let (lights, views) = shadow_views(scene, lights, shadow_map_size);
         Ok(SceneBuffers {
             vertices: gpu.upload_storage_items("scene vertices", mesh.positions.len(), |i| {
                 GpuVertex {
@@ -195,20 +222,20 @@ impl SceneBuffers {
             shadow_view_origins: Vec::new(),
         })
         .map(|mut buffers| {
-            buffers.set_shadow_views(scene, &views);
+            buffers.set_shadow_views(&views);
             buffers
         })
     }
 
     /// Keep the host-side copy of the shadow views (the RSM pass pushes them as constants).
-    pub fn set_shadow_views(&mut self, scene: &Scene, views: &[GpuShadowView]) {
+    pub fn set_shadow_views(&mut self, views: &[GpuShadowView]) {
         self.shadow_view_matrices = views
             .iter()
             .map(|v| Mat4::from_cols_array_2d(&v.view_projection))
             .collect();
         self.shadow_view_origins = views
             .iter()
-            .map(|v| scene.lights[v.axis_light[3] as usize].position)
+            .map(|v| Vec3::from_slice(&v.origin[..3]))
             .collect();
     }
 }

@@ -25,6 +25,9 @@ pub enum LightKind {
     },
     /// Emits the same intensity in every direction.
     Point,
+    /// A Lambertian patch: intensity ∝ cos θ over the hemisphere around `direction` (a sample
+    /// of an area light, as the rasteriser and RSM-based methods see it).
+    Cosine { direction: Vec3 },
 }
 
 /// A punctual light with total emitted flux `flux` watts, tinted by `color` per channel.
@@ -44,6 +47,7 @@ impl Light {
         match self.kind {
             LightKind::Spot { cone_angle_deg, .. } if cone_angle_deg > WIDE_SPOT_DEG => 5,
             LightKind::Spot { .. } => 1,
+            LightKind::Cosine { .. } => 5,
             LightKind::Point => 6,
         }
     }
@@ -60,7 +64,7 @@ impl Light {
                 let inner = (cone_angle_deg - penumbra_deg).max(0.0).to_radians();
                 (outer.cos(), inner.cos())
             }
-            LightKind::Point => (-1.0, -1.0),
+            LightKind::Point | LightKind::Cosine { .. } => (-1.0, -1.0),
         }
     }
 
@@ -72,6 +76,15 @@ impl Light {
                 let (cos_outer, cos_inner) = self.cone_cosines();
                 spot_profile(direction.normalize().dot(to_point), cos_outer, cos_inner)
             }
+            LightKind::Cosine { direction } => direction.dot(to_point).max(0.0),
+        }
+    }
+
+    /// The light's axis (spot and cosine lights), or None for a point light.
+    pub fn axis(&self) -> Option<Vec3> {
+        match self.kind {
+            LightKind::Spot { direction, .. } | LightKind::Cosine { direction } => Some(direction),
+            LightKind::Point => None,
         }
     }
 
@@ -84,6 +97,8 @@ impl Light {
                 // 2π [ ∫_{cos_inner}^{1} 1 dc + ∫_{cos_outer}^{cos_inner} ((c-co)/(ci-co))² dc ]
                 2.0 * std::f32::consts::PI * ((1.0 - cos_inner) + (cos_inner - cos_outer) / 3.0)
             }
+            // ∫ max(0, cos θ) dω over the sphere.
+            LightKind::Cosine { .. } => std::f32::consts::PI,
         }
     }
 

@@ -4,7 +4,9 @@
 pub mod builtin;
 pub mod bvh;
 pub mod camera;
+pub mod emitters;
 pub mod file;
+pub mod generate;
 pub mod gpu;
 pub mod intersect;
 pub mod light;
@@ -97,7 +99,13 @@ pub struct Scene {
     pub camera: Camera,
     pub bounds_min: Vec3,
     pub bounds_max: Vec3,
+    /// Cosine-lobed lights the rasteriser and RSM-based methods sample the emissive triangles
+    /// with (the path tracer samples the triangles themselves).
+    pub area_samples: u32,
 }
+
+/// Area-light samples for rasterisation unless `--area-samples` says otherwise.
+pub const DEFAULT_AREA_SAMPLES: u32 = 16;
 
 impl Scene {
     /// Load a scene: a built-in name (`cornell`, `two-rooms`), a `.toml` scene file, or a bare
@@ -221,16 +229,47 @@ impl Scene {
             camera,
             bounds_min,
             bounds_max,
+            area_samples: DEFAULT_AREA_SAMPLES,
         })
     }
 
-    /// Bounds of the mesh and lights together.
-    pub fn extended_bounds(&self) -> (Vec3, Vec3) {
-        self.lights
-            .iter()
-            .fold((self.bounds_min, self.bounds_max), |(lo, hi), l| {
-                (lo.min(l.position), hi.max(l.position))
+    /// One line for `-v` and the profile: triangles, emitters, lights, bounds.
+    pub fn statistics(&self) -> String {
+        let emissive = (0..self.mesh.triangle_count())
+            .filter(|&t| {
+                self.materials[self.mesh.materials[t] as usize]
+                    .emission
+                    .max_element()
+                    > 0.0
             })
+            .count();
+        let size = self.bounds_max - self.bounds_min;
+        format!(
+            "scene {}: {} triangles ({emissive} emissive, sampled by {} area-light samples for rasterisation), {} vertices, {} punctual light(s), bounds {:.4} .. {:.4} ({:.4} x {:.4} x {:.4})",
+            self.name,
+            self.mesh.triangle_count(),
+            if emissive > 0 { self.area_samples } else { 0 },
+            self.mesh.positions.len(),
+            self.lights.len(),
+            self.bounds_min,
+            self.bounds_max,
+            size.x,
+            size.y,
+            size.z
+        )
+    }
+
+    /// The lights as the rasteriser and the RSM-based methods see them: the punctual lights,
+    /// then `area_samples` cosine-lobed lights on the emissive triangles.
+    pub fn raster_lights(&self) -> Vec<Light> {
+        let offset = 1e-3 * (self.bounds_max - self.bounds_min).length();
+        let mut lights = self.lights.clone();
+        lights.extend(emitters::area_light_samples(
+            self,
+            self.area_samples,
+            offset,
+        ));
+        lights
     }
 }
 

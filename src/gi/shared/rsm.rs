@@ -53,8 +53,8 @@ impl Rsm {
                 depth_bias: None,
             },
         )?;
-        let layers = scene
-            .lights
+        let lights = scene.raster_lights();
+        let layers = lights
             .iter()
             .map(|l| l.shadow_view_count())
             .sum::<u32>()
@@ -62,10 +62,7 @@ impl Rsm {
         // Position and flux are 16 bytes a texel, the normal 8.
         check_layered_image(
             gpu,
-            &format!(
-                "the reflective shadow map of {} light(s)",
-                scene.lights.len()
-            ),
+            &format!("the reflective shadow map of {} light(s)", lights.len()),
             (size, layers, 16),
             "use fewer lights or a smaller --rsm",
         )?;
