@@ -22,9 +22,18 @@ use vkgi::scene::{LightKind, MAX_COORDINATE, MAX_POWER, Scene};
 
 mod common;
 
-const SCENES: [(&str, &str, &str); 2] = [
+const SCENES: [(&str, &str, &str); 3] = [
     (
         include_str!("../assets/scenes/cornell.toml"),
+        include_str!("../assets/cornell-box.obj"),
+        include_str!("../assets/cornell-box.mtl"),
+    ),
+    (
+        concat!(
+            include_str!("../assets/scenes/cornell.toml"),
+            "\n[[light]]\ntype = \"area\"\ncenter = [278, 547, 280]\n",
+            "edges = [[130, 0, 0], [0, 0, 105]]\nradiance = 30\ntwo_sided = false\n"
+        ),
         include_str!("../assets/cornell-box.obj"),
         include_str!("../assets/cornell-box.mtl"),
     ),
@@ -104,6 +113,14 @@ const LINES: &[&str] = &[
     "type = \"spot\"",
     "type = \"point\"",
     "type = \"area\"",
+    "edges = [[1, 0, 0], [0, 0, 1]]",
+    "edges = [[1, 0, 0], [2, 0, 0]]",
+    "edges = [[1e38, 0, 0], [0, 0, 1e38]]",
+    "edges = [[1e-30, 0, 0], [0, 0, 1e-30]]",
+    "center = [0, 0, 0]",
+    "radiance = 1e38",
+    "radiance = -1",
+    "two_sided = true",
     "flux = 3e38",
     "flux = -1",
     "flux = nan",

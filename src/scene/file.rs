@@ -16,6 +16,13 @@
 //! penumbra = 8                  # soft edge inside the cone, degrees
 //! flux = 5                      # watts
 //! color = [1, 1, 1]             # optional per-channel tint of the flux
+//! [[light]]
+//! type = "area"                 # a rectangle of emissive triangles
+//! center = [278, 548, 280]
+//! edges = [[130, 0, 0], [0, 0, 105]]  # front face along edges[0] × edges[1]
+//! radiance = 40                 # W/(m²·sr), or flux = … (watts leaving it); one of the two
+//! color = [1, 1, 1]             # optional tint
+//! two_sided = false             # optional: emit from the back face too
 //! ```
 
 use std::path::Path;
@@ -90,6 +97,87 @@ pub enum LightFile {
         #[serde(default, deserialize_with = "optional_three")]
         color: Option<[f32; 3]>,
     },
+    Area(AreaLightFile),
+}
+
+/// A rectangular area light: emissive triangles appended to the mesh.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AreaLightFile {
+    #[serde(deserialize_with = "three")]
+    center: [f32; 3],
+    /// Two edge vectors of the rectangle; its front face is along `edges[0] × edges[1]`.
+    #[serde(deserialize_with = "two_vectors")]
+    edges: [[f32; 3]; 2],
+    /// Emitted radiance, W/(m²·sr) (scene units are metres after `scale`).
+    radiance: Option<f32>,
+    /// Flux leaving the light, watts (instead of `radiance`).
+    flux: Option<f32>,
+    #[serde(default, deserialize_with = "optional_three")]
+    color: Option<[f32; 3]>,
+    #[serde(default)]
+    two_sided: bool,
+}
+
+fn two_vectors<'de, D: Deserializer<'de>>(d: D) -> Result<[[f32; 3]; 2], D::Error> {
+    let values = Vec::<Vec<f32>>::deserialize(d)?;
+    let vectors: Option<Vec<[f32; 3]>> = values
+        .iter()
+        .map(|v| <[f32; 3]>::try_from(v.as_slice()).ok())
+        .collect();
+    vectors
+        .and_then(|v| <[[f32; 3]; 2]>::try_from(v).ok())
+        .ok_or_else(|| serde::de::Error::custom("expected two edge vectors [[x, y, z], [x, y, z]]"))
+}
+
+impl AreaLightFile {
+    /// The rectangle's corners (front face by winding) and its emitted radiance per channel,
+    /// after scaling by `scale`; `index` names the light in errors.
+    fn emitter(&self, scale: f32, index: usize) -> Result<([Vec3; 4], Vec3, bool), String> {
+        let what = format!("light {} (area)", index + 1);
+        let center = Vec3::from(self.center) * scale;
+        let [e0, e1] = self.edges.map(|e| Vec3::from(e) * scale);
+        let normal = e0.as_dvec3().cross(e1.as_dvec3());
+        let area = normal.length();
+        if !(center.is_finite() && e0.is_finite() && e1.is_finite() && area.is_finite()) {
+            return Err(format!("{what}: center and edges must be finite"));
+        }
+        if area
+            <= 1e-12
+                * e0.as_dvec3()
+                    .length_squared()
+                    .max(e1.as_dvec3().length_squared())
+        {
+            return Err(format!(
+                "{what}: the edges are parallel or zero; the rectangle has no area"
+            ));
+        }
+        let color = Vec3::from(self.color.unwrap_or([1.0; 3]));
+        let sides = if self.two_sided { 2.0 } else { 1.0 };
+        let radiance = match (self.radiance, self.flux) {
+            (Some(l), None) => f64::from(l),
+            // Φ = π L A per emitting side of a Lambertian emitter.
+            (None, Some(flux)) => f64::from(flux) / (std::f64::consts::PI * area * sides),
+            _ => {
+                return Err(format!(
+                    "{what}: give exactly one of radiance (W/(m²·sr)) or flux (W)"
+                ));
+            }
+        };
+        if !(radiance.is_finite() && radiance >= 0.0) {
+            return Err(format!(
+                "{what}: radiance and flux must be finite numbers >= 0"
+            ));
+        }
+        let corner = |a: f32, b: f32| center + 0.5 * (a * e0 + b * e1);
+        let corners = [
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        ];
+        Ok((corners, radiance as f32 * color, self.two_sided))
+    }
 }
 
 impl SceneFile {
@@ -118,15 +206,30 @@ impl SceneFile {
     pub fn into_scene(
         self,
         name: String,
-        mesh: super::Mesh,
-        materials: Vec<super::Material>,
+        mut mesh: super::Mesh,
+        mut materials: Vec<super::Material>,
     ) -> Result<Scene, InputError> {
         let s = self.scale;
         let v = |a: [f32; 3]| Vec3::from(a) * s;
+        for (index, light) in self.lights.iter().enumerate() {
+            if let LightFile::Area(area) = light {
+                let (corners, emission, two_sided) = area
+                    .emitter(s, index)
+                    .map_err(|m| InputError::new(format!("scene '{name}': {m}")))?;
+                append_emitter(
+                    &mut mesh,
+                    &mut materials,
+                    index,
+                    corners,
+                    emission,
+                    two_sided,
+                );
+            }
+        }
         let lights = self
             .lights
             .iter()
-            .map(|l| match *l {
+            .filter_map(|l| match *l {
                 LightFile::Spot {
                     position,
                     direction,
@@ -134,7 +237,7 @@ impl SceneFile {
                     penumbra,
                     flux,
                     color,
-                } => Light {
+                } => Some(Light {
                     position: v(position),
                     kind: LightKind::Spot {
                         direction: Vec3::from(direction),
@@ -143,17 +246,18 @@ impl SceneFile {
                     },
                     flux,
                     color: Vec3::from(color.unwrap_or([1.0; 3])),
-                },
+                }),
                 LightFile::Point {
                     position,
                     flux,
                     color,
-                } => Light {
+                } => Some(Light {
                     position: v(position),
                     kind: LightKind::Point,
                     flux,
                     color: Vec3::from(color.unwrap_or([1.0; 3])),
-                },
+                }),
+                LightFile::Area(_) => None,
             })
             .collect();
         let camera = match &self.camera {
@@ -170,6 +274,27 @@ impl SceneFile {
         };
         Scene::new(name, mesh, materials, lights, camera)
     }
+}
+
+/// Append an area light's rectangle to the mesh as two emissive triangles with a black,
+/// emitting material of its own.
+fn append_emitter(
+    mesh: &mut super::Mesh,
+    materials: &mut Vec<super::Material>,
+    index: usize,
+    [a, b, c, d]: [Vec3; 4],
+    emission: Vec3,
+    two_sided: bool,
+) {
+    let material = materials.len() as u32;
+    materials.push(super::Material {
+        name: format!("area-light-{}", index + 1),
+        albedo: Vec3::ZERO,
+        emission,
+        two_sided,
+    });
+    mesh.push_triangle([a, b, c], [Vec3::ZERO; 3], material);
+    mesh.push_triangle([a, c, d], [Vec3::ZERO; 3], material);
 }
 
 /// Load a scene whose scene file, OBJ and MTL are texts in memory (built-in scenes, fuzzing);
@@ -218,6 +343,7 @@ mod tests {
         assert!(SceneFile::parse("mesh = \"a.obj\"\nsclae = 2\n", "s").is_err());
         let area = "mesh = \"a.obj\"\n[[light]]\ntype = \"area\"\nposition = [0,0,0]\nflux = 1\n";
         assert!(SceneFile::parse(area, "s").is_err());
+        assert!(SceneFile::parse("mesh = \"a.obj\"\n[[light]]\ntype = \"disc\"\n", "s").is_err());
         assert!(SceneFile::parse("mesh = \"a.obj\"\nscale = -1\n", "s").is_err());
     }
 
@@ -243,5 +369,80 @@ mod tests {
         let file = SceneFile::parse(text, "s").unwrap();
         assert_eq!(file.lights.len(), 1);
         assert_eq!(file.scale, 1.0);
+    }
+
+    fn floor() -> (super::super::Mesh, Vec<super::super::Material>) {
+        let mut mesh = super::super::Mesh::default();
+        let corners = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0)];
+        mesh.push_triangle(corners, [Vec3::ZERO; 3], 0);
+        let material = super::super::Material {
+            name: "floor".into(),
+            albedo: Vec3::splat(0.5),
+            emission: Vec3::ZERO,
+            two_sided: false,
+        };
+        (mesh, vec![material])
+    }
+
+    fn area_scene(light: &str) -> Result<Scene, InputError> {
+        let text = format!("mesh = \"a.obj\"\nscale = 0.5\n[[light]]\ntype = \"area\"\n{light}");
+        let (mesh, materials) = floor();
+        SceneFile::parse(&text, "s")?.into_scene("s".into(), mesh, materials)
+    }
+
+    #[test]
+    fn an_area_light_becomes_two_emissive_triangles_facing_along_the_edge_cross_product() {
+        let scene = area_scene(
+            "center = [0, 2, 0]\nedges = [[2, 0, 0], [0, 0, 1]]\nflux = 3\ncolor = [1, 0.5, 0]\n",
+        )
+        .unwrap();
+        assert!(scene.lights.is_empty());
+        assert_eq!(scene.mesh.triangle_count(), 3);
+        let emitter = &scene.materials[1];
+        assert!(!emitter.two_sided);
+        // Scaled by 0.5: a 1 x 0.5 rectangle at height 1, facing -y (x × z = -y).
+        let area: f32 = (1..3)
+            .map(|t| {
+                let [a, b, c] = scene.mesh.triangle(t);
+                assert_eq!(scene.mesh.materials[t], 1);
+                assert!((scene.mesh.face_normal(t) - Vec3::NEG_Y).length() < 1e-6);
+                assert!([a, b, c].iter().all(|p| (p.y - 1.0).abs() < 1e-6));
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum();
+        assert!((area - 0.5).abs() < 1e-6, "{area}");
+        // Φ = π L A: L = 3 / (π 0.5).
+        let radiance = 3.0 / (std::f32::consts::PI * 0.5);
+        assert!((emitter.emission - Vec3::new(1.0, 0.5, 0.0) * radiance).length() < 1e-5);
+        let two = area_scene(
+            "center = [0, 2, 0]\nedges = [[2, 0, 0], [0, 0, 1]]\nflux = 3\ntwo_sided = true\n",
+        )
+        .unwrap();
+        assert!((two.materials[1].emission.x - radiance / 2.0).abs() < 1e-5);
+        let given =
+            area_scene("center = [0, 2, 0]\nedges = [[2, 0, 0], [0, 0, 1]]\nradiance = 7\n")
+                .unwrap();
+        assert_eq!(given.materials[1].emission, Vec3::splat(7.0));
+    }
+
+    #[test]
+    fn area_lights_need_area_and_exactly_one_of_radiance_or_flux() {
+        let errors = [
+            "center = [0, 2, 0]\nedges = [[2, 0, 0], [4, 0, 0]]\nflux = 1\n",
+            "center = [0, 2, 0]\nedges = [[0, 0, 0], [0, 0, 1]]\nflux = 1\n",
+            "center = [0, 2, 0]\nedges = [[1, 0, 0], [0, 0, 1]]\n",
+            "center = [0, 2, 0]\nedges = [[1, 0, 0], [0, 0, 1]]\nflux = 1\nradiance = 1\n",
+            "center = [0, 2, 0]\nedges = [[1, 0, 0], [0, 0, 1]]\nflux = -1\n",
+            "center = [0, 2, 0]\nedges = [[1, 0, 0]]\nflux = 1\n",
+            "center = [0, 2, 0]\nedges = [[1, 0, 0], [0, 1]]\nflux = 1\n",
+            "center = [0, 2, 0]\nedges = [[1e30, 0, 0], [0, 0, 1e30]]\nflux = 1\n",
+            "center = [0, 2, 0]\nedges = [[1, 0, 0], [0, 0, 1]]\nradiance = 1e30\n",
+        ];
+        for light in errors {
+            let err = area_scene(light)
+                .err()
+                .unwrap_or_else(|| panic!("accepted {light}"));
+            assert!(!err.0.contains('\n'), "{err}");
+        }
     }
 }

@@ -186,7 +186,7 @@ impl Scene {
         let emissive = materials.iter().any(|m| m.emission.max_element() > 0.0);
         if lights.is_empty() && !emissive {
             return Err(InputError::new(format!(
-                "scene '{name}' has no light: add a [[light]] to the scene file or an emissive (Ke) material"
+                "scene '{name}' has no light: add a [[light]] (point, spot or area) to the scene file or an emissive (Ke) material"
             )));
         }
         let lights = lights
