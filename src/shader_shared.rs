@@ -25,6 +25,7 @@ shared_constants! {
     RASTER_VERTICES: u32 = 0;
     RASTER_TRIANGLES: u32 = 1;
     RASTER_MATERIALS: u32 = 2;
+    RASTER_TEXTURES: u32 = 3;
 
     // ---- deferred direct lighting ----
     LIGHTING_GBUFFER_POSITION: u32 = 0;
@@ -58,6 +59,7 @@ shared_constants! {
     REFERENCE_DIRECT_SUM: u32 = 6;
     REFERENCE_INDIRECT_SUM: u32 = 7;
     REFERENCE_EMITTERS: u32 = 8;
+    REFERENCE_TEXTURES: u32 = 9;
     /// First random-number dimension of the emitter samples (three per path vertex), apart
     /// from the bounce dimensions 2 + 3 * depth.
     REFERENCE_EMITTER_DIM: u32 = 65536;

@@ -4,6 +4,7 @@
 //! for as many frames as it declares it needs to settle.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use glam::Vec3;
 use vkgi::gi::GiMethod;
@@ -12,7 +13,8 @@ use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, Stage};
 use vkgi::render::runner::run_frames;
 use vkgi::render::{Eye, Frame, FrameOptions};
-use vkgi::scene::Scene;
+use vkgi::scene::texture::{linear_to_srgb, srgb_to_linear};
+use vkgi::scene::{Scene, Texture};
 use vkgi::view::cave::Cave;
 
 mod common;
@@ -157,6 +159,48 @@ fn zero_flux_gives_exactly_zero_and_indirect_light_is_linear_in_flux() {
                 entry.name
             );
         }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// `scene` with every material's albedo moved into a one-texel texture (factor 1), and the
+/// untextured twin whose albedo is what that texel decodes to.
+fn uniformly_textured(scene: &Scene) -> (Scene, Scene) {
+    let mut textured = scene.clone();
+    let mut plain = scene.clone();
+    for (t, p) in textured.materials.iter_mut().zip(&mut plain.materials) {
+        let encoded = t
+            .albedo
+            .to_array()
+            .map(|c| (linear_to_srgb(c) * 255.0).round() as u32);
+        let texel = encoded[0] | encoded[1] << 8 | encoded[2] << 16 | 0xff << 24;
+        let texture = Texture::new("uniform", 1, 1, vec![texel]).unwrap();
+        p.albedo = Vec3::from(encoded.map(|e| srgb_to_linear(e as f32 / 255.0)));
+        t.albedo = Vec3::ONE;
+        t.albedo_texture = Some(Arc::new(texture));
+    }
+    (textured, plain)
+}
+
+#[test]
+fn textured_albedo_reaches_every_pass_of_every_method() {
+    let gpu = common::gpu();
+    let (textured, plain) = uniformly_textured(&Scene::load("cornell").unwrap());
+    for entry in std::iter::once(None).chain(registry::methods().map(Some)) {
+        let name = entry.map_or("direct light", |e| e.name);
+        let a = render(&gpu, &textured, entry, false);
+        let b = render(&gpu, &plain, entry, false);
+        let peak = b.iter().flatten().fold(0.0f32, |m, &v| m.max(v));
+        let worst = a
+            .iter()
+            .flatten()
+            .zip(b.iter().flatten())
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst <= 1e-4 * peak,
+            "{name}: a uniform texture renders {worst} away from its plain albedo (peak {peak})"
+        );
     }
     common::assert_no_validation_errors(&gpu);
 }

@@ -180,6 +180,7 @@ fn multiple_importance_sampling_beats_either_strategy_alone() {
         albedo: Vec3::ZERO,
         emission: Vec3::splat(0.5),
         two_sided: false,
+        albedo_texture: None,
     });
     let scene = Scene::new(
         scene.name.clone(),
@@ -368,7 +369,9 @@ fn gpu_and_cpu_estimators_agree() {
     let cornell = Scene::load("cornell").unwrap();
     // Emitters sampled by power and hit by bounces, combined by MIS: the same on both sides.
     let emitting = common::plane_under_square_light(0.6, 0.8, 1.0, 5.0);
+    let textured = common::textured_plane_under_point_light(10.0);
     let cases = [
+        (&textured, Bounces::Limited(0)),
         (&cornell, Bounces::Limited(1)),
         (&cornell, Bounces::Unlimited),
         (&emitting, Bounces::Limited(1)),

@@ -3,9 +3,13 @@
 // Scene layouts; the Rust side is src/scene/gpu.rs (GpuVertex, GpuMaterial).
 
 struct Vertex {
-    vec4 position;  // xyz, w = 1
-    vec4 normal;    // xyz unit shading normal, or zero where the mesh has none; w = 0
+    vec4 position;  // xyz, w = texture coordinate u
+    vec4 normal;    // xyz unit shading normal, or zero where the mesh has none; w = texture v
 };
+
+vec2 vertex_texcoord(Vertex v) {
+    return vec2(v.position.w, v.normal.w);
+}
 
 // A triangle: xyz = its three vertex indices (winding order), w = its material.
 #define Triangle uvec4
@@ -17,7 +21,7 @@ vec3 shading_normal(vec3 interpolated, vec3 face) {
 }
 
 struct Material {
-    vec4 albedo;    // rgb diffuse albedo
+    vec4 albedo;    // rgb diffuse albedo (factor), w = 1 + albedo texture index, 0 for none
     vec4 emission;  // rgb emitted radiance, w = 1 when emitted from both faces (else the front)
 };
 

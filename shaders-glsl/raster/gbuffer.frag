@@ -2,6 +2,9 @@
 // G-buffer: world position (w = 1 where covered), normal facing the camera, albedo, emission.
 #include "common/scene.glsl"
 
+layout(binding = RASTER_TEXTURES, std430) readonly buffer Textures { uint texture_words[]; };
+#include "common/texture.glsl"
+
 layout(binding = RASTER_MATERIALS, std430) readonly buffer Materials { Material materials[]; };
 
 layout(push_constant) uniform Push {
@@ -13,6 +16,7 @@ layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) flat in vec3 in_face_normal;
 layout(location = 3) flat in uint in_material;
+layout(location = 4) in vec2 in_texcoord;
 
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
@@ -27,7 +31,7 @@ void main() {
     Material m = materials[in_material];
     out_position = vec4(in_position, 1.0);
     out_normal = vec4(n, 0.0);
-    out_albedo = vec4(m.albedo.rgb, 1.0);
+    out_albedo = vec4(material_albedo(m, in_texcoord), 1.0);
     // Emission leaves the front face (by winding) only, unless the material is two-sided.
     bool emits = facing > 0.0 || m.emission.w > 0.5;
     out_emission = vec4(emits ? m.emission.rgb : vec3(0.0), 0.0);

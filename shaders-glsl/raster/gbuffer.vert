@@ -1,7 +1,7 @@
 #version 460
 // G-buffer geometry: pulls its triangle's corners through the triangle's vertex indices, passes
 // world position, interpolated vertex normal, the geometric normal (for facing and where the
-// vertices have no normals) and the material.
+// vertices have no normals), texture coordinates and the material.
 #include "common/scene.glsl"
 
 layout(binding = RASTER_VERTICES, std430) readonly buffer Vertices { Vertex vertices[]; };
@@ -16,6 +16,7 @@ layout(location = 0) out vec3 out_position;
 layout(location = 1) out vec3 out_normal;
 layout(location = 2) flat out vec3 out_face_normal;
 layout(location = 3) flat out uint out_material;
+layout(location = 4) out vec2 out_texcoord;
 
 void main() {
     Triangle triangle = triangles[gl_VertexIndex / 3];
@@ -28,5 +29,6 @@ void main() {
     out_normal = vertices[corner].normal.xyz;
     out_face_normal = normalize(cross(b - a, c - a));
     out_material = triangle.w;
+    out_texcoord = vertex_texcoord(vertices[corner]);
     gl_Position = pc.view_projection * vec4(p, 1.0);
 }

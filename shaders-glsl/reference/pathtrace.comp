@@ -29,6 +29,8 @@ layout(binding = REFERENCE_DIRECT_SUM, std430) buffer DirectSum { vec4 direct_su
 layout(binding = REFERENCE_INDIRECT_SUM, std430) buffer IndirectSum { vec4 indirect_sum[]; };
 // Emissive triangles: x = mesh triangle, y = cumulative probability (float bits).
 layout(binding = REFERENCE_EMITTERS, std430) readonly buffer Emitters { uvec2 emitters[]; };
+layout(binding = REFERENCE_TEXTURES, std430) readonly buffer Textures { uint texture_words[]; };
+#include "common/texture.glsl"
 
 #include "common/bvh.glsl"
 
@@ -105,6 +107,10 @@ void main() {
             if (dot(ng, dir) > 0.0) ng = -ng;  // two-sided reflection: face the incoming ray
             if (dot(ns, ng) < 0.0) ns = -ns;
             Material m = materials[corners.w];
+            vec2 texcoord = vertex_texcoord(vertices[corners.x]) * (1.0 - uv.x - uv.y)
+                          + vertex_texcoord(vertices[corners.y]) * uv.x
+                          + vertex_texcoord(vertices[corners.z]) * uv.y;
+            vec3 albedo = material_albedo(m, texcoord);
 
             bool emits = cos_emit > 0.0 || m.emission.w > 0.5;
             if (emits && any(greaterThan(m.emission.rgb, vec3(0.0)))) {
@@ -133,7 +139,7 @@ void main() {
                 float ts;
                 vec2 uvs;
                 if (trace_ray(shade_origin, to_light_offset / reach, 0.0, reach - eps, true, ts, uvs) >= 0) continue;
-                vec3 reflected = throughput * m.albedo.rgb * INV_PI * e * cos_theta;
+                vec3 reflected = throughput * albedo * INV_PI * e * cos_theta;
                 if (depth == 0u) direct += reflected; else indirect += reflected;
             }
 
@@ -169,7 +175,7 @@ void main() {
                         float light_pdf = emitter_area_pdf(em) * dist2 / cos_e;
                         float weight = pc.strategy == REFERENCE_STRATEGY_MIS
                                      ? power_heuristic(light_pdf, cos_s * INV_PI) : 1.0;
-                        vec3 reflected = throughput * m.albedo.rgb * INV_PI * em.emission.rgb
+                        vec3 reflected = throughput * albedo * INV_PI * em.emission.rgb
                                        * (cos_s * weight / light_pdf);
                         if (depth == 0u) direct += reflected; else indirect += reflected;
                     }
@@ -184,7 +190,7 @@ void main() {
                 random_float(pc.seed, pixel_index, sample_index, dim + 1u));
             if (dot(next, ng) <= 0.0) break;
             bounce_pdf = dot(ns, next) * INV_PI;
-            throughput *= m.albedo.rgb;
+            throughput *= albedo;
             if (unlimited && depth >= pc.rr_start) {
                 float survive = min(max(max(throughput.r, throughput.g), throughput.b), 0.95);
                 if (random_float(pc.seed, pixel_index, sample_index, dim + 2u) >= survive) break;

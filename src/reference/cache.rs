@@ -54,9 +54,16 @@ pub fn code_version() -> String {
 
 pub fn scene_hash(scene: &Scene) -> String {
     let mut floats: Vec<f32> = Vec::new();
-    for (p, n) in scene.mesh.positions.iter().zip(&scene.mesh.normals) {
+    let mesh = &scene.mesh;
+    for ((p, n), uv) in mesh
+        .positions
+        .iter()
+        .zip(&mesh.normals)
+        .zip(&mesh.texcoords)
+    {
         floats.extend(p.to_array());
         floats.extend(n.to_array());
+        floats.extend(uv.to_array());
     }
     for (t, m) in scene.mesh.indices.iter().zip(&scene.mesh.materials) {
         floats.extend(t.map(|i| i as f32));
@@ -65,6 +72,7 @@ pub fn scene_hash(scene: &Scene) -> String {
     for m in &scene.materials {
         floats.extend(m.albedo.to_array());
         floats.extend(m.emission.to_array());
+        floats.push(f32::from(u8::from(m.two_sided)));
     }
     for l in &scene.lights {
         floats.extend(l.position.to_array());
@@ -85,6 +93,20 @@ pub fn scene_hash(scene: &Scene) -> String {
         scene.mesh.materials.iter().flat_map(|m| m.to_le_bytes()),
         hash,
     );
+    let (textures, indices) = scene.textures();
+    hash = fnv1a(
+        indices
+            .iter()
+            .flat_map(|i| i.map_or(0, |i| i + 1).to_le_bytes()),
+        hash,
+    );
+    for t in textures {
+        hash = fnv1a(
+            [t.width, t.height].iter().flat_map(|v| v.to_le_bytes()),
+            hash,
+        );
+        hash = fnv1a(t.texels.iter().flat_map(|v| v.to_le_bytes()), hash);
+    }
     format!("{hash:016x}")
 }
 

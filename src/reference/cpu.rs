@@ -126,6 +126,7 @@ fn pixel(
                 ns = -ns;
             }
             let m = &scene.materials[mesh.materials[t] as usize];
+            let albedo = scene.albedo(t, hit.uv);
             if (cos_emit > 0.0 || m.two_sided) && m.emission.max_element() > 0.0 {
                 let weight = if depth > 0 && sampled {
                     let light_pdf =
@@ -166,7 +167,7 @@ fn pixel(
                 {
                     continue;
                 }
-                let reflected = throughput * m.albedo * std::f32::consts::FRAC_1_PI * e * cos_theta;
+                let reflected = throughput * albedo * std::f32::consts::FRAC_1_PI * e * cos_theta;
                 if depth == 0 {
                     direct += reflected;
                 } else {
@@ -205,7 +206,7 @@ fn pixel(
                         1.0
                     };
                     let reflected = throughput
-                        * m.albedo
+                        * albedo
                         * std::f32::consts::FRAC_1_PI
                         * em.emission
                         * (cos_s * weight / light_pdf);
@@ -226,7 +227,7 @@ fn pixel(
                 break;
             }
             bounce_pdf = ns.dot(next) * std::f32::consts::FRAC_1_PI;
-            throughput *= m.albedo;
+            throughput *= albedo;
             if settings.bounces == Bounces::Unlimited && depth >= RUSSIAN_ROULETTE_START {
                 let survive = throughput.max_element().min(0.95);
                 if rand(dim + 2) >= survive {

@@ -310,6 +310,7 @@ impl PathTracer {
                     Binding::write(ids::REFERENCE_DIRECT_SUM, &self.direct_sum),
                     Binding::write(ids::REFERENCE_INDIRECT_SUM, &self.indirect_sum),
                     Binding::read(ids::REFERENCE_EMITTERS, &self.emitters),
+                    Binding::read(ids::REFERENCE_TEXTURES, &self.scene.textures),
                 ],
                 push: &push,
                 threads: [push.size[0], push.size[1], 1],

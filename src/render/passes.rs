@@ -130,6 +130,7 @@ impl ScenePasses {
                 Binding::read(ids::RASTER_VERTICES, &scene.vertices),
                 Binding::read(ids::RASTER_TRIANGLES, &scene.triangles),
                 Binding::read(ids::RASTER_MATERIALS, &scene.materials),
+                Binding::read(ids::RASTER_TEXTURES, &scene.textures),
             ],
             push: &push,
             color: &[

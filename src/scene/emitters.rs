@@ -153,6 +153,7 @@ mod tests {
                 albedo: Vec3::splat(0.5),
                 emission: Vec3::splat(le),
                 two_sided,
+                albedo_texture: None,
             });
         }
         let camera = Camera {

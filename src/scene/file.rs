@@ -288,10 +288,9 @@ fn append_emitter(
 ) {
     let material = materials.len() as u32;
     materials.push(super::Material {
-        name: format!("area-light-{}", index + 1),
-        albedo: Vec3::ZERO,
         emission,
         two_sided,
+        ..super::Material::diffuse(&format!("area-light-{}", index + 1), Vec3::ZERO)
     });
     mesh.push_triangle([a, b, c], [Vec3::ZERO; 3], material);
     mesh.push_triangle([a, c, d], [Vec3::ZERO; 3], material);
@@ -375,12 +374,7 @@ mod tests {
         let mut mesh = super::super::Mesh::default();
         let corners = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0)];
         mesh.push_triangle(corners, [Vec3::ZERO; 3], 0);
-        let material = super::super::Material {
-            name: "floor".into(),
-            albedo: Vec3::splat(0.5),
-            emission: Vec3::ZERO,
-            two_sided: false,
-        };
+        let material = super::super::Material::diffuse("floor", Vec3::splat(0.5));
         (mesh, vec![material])
     }
 

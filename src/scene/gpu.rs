@@ -12,15 +12,36 @@ use crate::shader_shared::{LIGHT_KIND_COSINE, LIGHT_KIND_POINT, LIGHT_KIND_SPOT}
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct GpuVertex {
+    /// xyz, w = texture coordinate u.
     pub position: [f32; 4],
+    /// xyz shading normal (zero: flat), w = texture coordinate v.
     pub normal: [f32; 4],
 }
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct GpuMaterial {
+    /// rgb albedo (factor), w = 1 + index of its albedo texture, or 0 for none.
     pub albedo: [f32; 4],
+    /// rgb emitted radiance, w = 1 when emitted from both faces.
     pub emission: [f32; 4],
+}
+
+/// The scene's albedo textures as one word array (shaders-glsl/common/texture.glsl reads it):
+/// per texture a uvec4 (first texel word, width, height, 0), then every texture's RGBA8 texels.
+fn texture_words(textures: &[&std::sync::Arc<crate::scene::Texture>]) -> Vec<u32> {
+    let table = 4 * textures.len();
+    let texels: usize = textures.iter().map(|t| t.texels.len()).sum();
+    let mut words = Vec::with_capacity(table + texels);
+    let mut first = table as u32;
+    for t in textures {
+        words.extend([first, t.width, t.height, 0]);
+        first += t.texels.len() as u32;
+    }
+    for t in textures {
+        words.extend_from_slice(&t.texels);
+    }
+    words
 }
 
 #[repr(C)]
@@ -169,6 +190,8 @@ pub struct SceneBuffers {
     /// Per triangle: its three vertex indices and its material (a uvec4).
     pub triangles: Buffer,
     pub materials: Buffer,
+    /// Albedo textures: a table, then texels (see `texture_words`).
+    pub textures: Buffer,
     pub lights: Buffer,
     pub shadow_views: Buffer,
     /// Vertices a draw of every triangle pulls (three per triangle).
@@ -190,11 +213,16 @@ impl SceneBuffers {
         shadow_map_size: u32,
     ) -> GpuResult<SceneBuffers> {
         let mesh = &scene.mesh;
+        let (textures, texture_of) = scene.textures();
         let materials: Vec<GpuMaterial> = scene
             .materials
             .iter()
-            .map(|m| GpuMaterial {
-                albedo: m.albedo.extend(0.0).to_array(),
+            .zip(&texture_of)
+            .map(|(m, texture)| GpuMaterial {
+                albedo: m
+                    .albedo
+                    .extend(texture.map_or(0.0, |t| (t + 1) as f32))
+                    .to_array(),
                 emission: m
                     .emission
                     .extend(f32::from(u8::from(m.two_sided)))
@@ -205,8 +233,8 @@ impl SceneBuffers {
         Ok(SceneBuffers {
             vertices: gpu.upload_storage_items("scene vertices", mesh.positions.len(), |i| {
                 GpuVertex {
-                    position: mesh.positions[i].extend(1.0).to_array(),
-                    normal: mesh.normals[i].extend(0.0).to_array(),
+                    position: mesh.positions[i].extend(mesh.texcoords[i].x).to_array(),
+                    normal: mesh.normals[i].extend(mesh.texcoords[i].y).to_array(),
                 }
             })?,
             triangles: gpu.upload_storage_items("scene triangles", mesh.triangle_count(), |t| {
@@ -214,6 +242,10 @@ impl SceneBuffers {
                 [a, b, c, mesh.materials[t]]
             })?,
             materials: gpu.upload_storage("scene materials", bytemuck::cast_slice(&materials))?,
+            textures: gpu.upload_storage(
+                "scene textures",
+                bytemuck::cast_slice(&texture_words(&textures)),
+            )?,
             lights: gpu.upload_storage("scene lights", bytemuck::cast_slice(&lights))?,
             shadow_views: gpu.upload_storage("shadow views", bytemuck::cast_slice(&views))?,
             vertex_count: 3 * mesh.triangle_count() as u32,

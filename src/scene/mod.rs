@@ -11,18 +11,21 @@ pub mod gpu;
 pub mod intersect;
 pub mod light;
 pub mod obj;
+pub mod texture;
 
 use std::path::Path;
+use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 pub use camera::Camera;
 pub use light::{Light, LightKind};
+pub use texture::Texture;
 
 use crate::error::InputError;
 
-/// A Lambertian material: diffuse albedo in [0, 1] and emitted radiance (W/(m²·sr)), emitted
-/// from the front face (by winding) only, unless `two_sided`.
+/// A Lambertian material: diffuse albedo in [0, 1] (times its texture, if any) and emitted
+/// radiance (W/(m²·sr)), emitted from the front face (by winding) only, unless `two_sided`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub name: String,
@@ -30,6 +33,30 @@ pub struct Material {
     pub emission: Vec3,
     /// Emit from both faces (e.g. glTF's doubleSided); surfaces reflect from both either way.
     pub two_sided: bool,
+    /// Multiplies `albedo`, sampled at the surface's texture coordinates (shared between
+    /// materials that use the same image).
+    pub albedo_texture: Option<Arc<Texture>>,
+}
+
+impl Material {
+    /// An untextured diffuse material that does not emit.
+    pub fn diffuse(name: &str, albedo: Vec3) -> Material {
+        Material {
+            name: name.to_string(),
+            albedo,
+            emission: Vec3::ZERO,
+            two_sided: false,
+            albedo_texture: None,
+        }
+    }
+
+    /// The albedo at texture coordinates `uv`.
+    pub fn albedo_at(&self, uv: Vec2) -> Vec3 {
+        match &self.albedo_texture {
+            Some(texture) => self.albedo * texture.sample(uv),
+            None => self.albedo,
+        }
+    }
 }
 
 /// An indexed triangle mesh: unique vertices (position and shading normal) and three vertex
@@ -40,6 +67,8 @@ pub struct Mesh {
     /// Unit shading normal per vertex, or zero where the file gives none: the triangle's face
     /// normal is used there (the shaders and the CPU estimators share this rule).
     pub normals: Vec<Vec3>,
+    /// Texture coordinates per vertex (zero where the file gives none).
+    pub texcoords: Vec<Vec2>,
     /// Vertex indices of each triangle, in winding order.
     pub indices: Vec<[u32; 3]>,
     /// Material index per triangle.
@@ -73,11 +102,19 @@ impl Mesh {
         }
     }
 
-    /// Append a triangle with its own three vertices (normals zero: flat).
+    /// Texture coordinates at barycentric `(u, v)` of triangle `t`.
+    pub fn texcoord(&self, t: usize, (u, v): (f32, f32)) -> Vec2 {
+        let [a, b, c] = self.indices[t].map(|i| self.texcoords[i as usize]);
+        a * (1.0 - u - v) + b * u + c * v
+    }
+
+    /// Append a triangle with its own three vertices (normals zero: flat; texture
+    /// coordinates zero).
     pub fn push_triangle(&mut self, corners: [Vec3; 3], normals: [Vec3; 3], material: u32) {
         let first = self.positions.len() as u32;
         self.positions.extend(corners);
         self.normals.extend(normals);
+        self.texcoords.extend([Vec2::ZERO; 3]);
         self.indices.push([first, first + 1, first + 2]);
         self.materials.push(material);
     }
@@ -183,6 +220,7 @@ impl Scene {
                 )));
             }
         }
+        check_textures(&name, &mesh, &materials)?;
         let emissive = materials.iter().any(|m| m.emission.max_element() > 0.0);
         if lights.is_empty() && !emissive {
             return Err(InputError::new(format!(
@@ -231,6 +269,37 @@ impl Scene {
             bounds_max,
             area_samples: DEFAULT_AREA_SAMPLES,
         })
+    }
+
+    /// The albedo at barycentric `(u, v)` of triangle `t` (textured where its material is).
+    pub fn albedo(&self, t: usize, uv: (f32, f32)) -> Vec3 {
+        let material = &self.materials[self.mesh.materials[t] as usize];
+        match material.albedo_texture {
+            Some(_) => material.albedo_at(self.mesh.texcoord(t, uv)),
+            None => material.albedo,
+        }
+    }
+
+    /// The distinct albedo textures, in the order the GPU's texture table holds them, and each
+    /// material's index into it.
+    pub fn textures(&self) -> (Vec<&Arc<Texture>>, Vec<Option<u32>>) {
+        let mut textures: Vec<&Arc<Texture>> = Vec::new();
+        let indices = self
+            .materials
+            .iter()
+            .map(|m| {
+                m.albedo_texture.as_ref().map(|t| {
+                    match textures.iter().position(|u| Arc::ptr_eq(u, t)) {
+                        Some(i) => i as u32,
+                        None => {
+                            textures.push(t);
+                            textures.len() as u32 - 1
+                        }
+                    }
+                })
+            })
+            .collect();
+        (textures, indices)
     }
 
     /// One line for `-v` and the profile: triangles, emitters, lights, bounds.
@@ -314,6 +383,38 @@ fn check_mesh(name: &str, mesh: &Mesh) -> Result<(Vec3, Vec3), InputError> {
     Ok((min, max))
 }
 
+/// Texture coordinates for every vertex, finite, and textures within vkgi's memory limit.
+fn check_textures(name: &str, mesh: &Mesh, materials: &[Material]) -> Result<(), InputError> {
+    if mesh.texcoords.len() != mesh.positions.len() {
+        return Err(InputError::new(format!(
+            "scene '{name}': {} texture coordinates for {} vertices",
+            mesh.texcoords.len(),
+            mesh.positions.len()
+        )));
+    }
+    if let Some(v) = mesh.texcoords.iter().position(|t| !t.is_finite()) {
+        return Err(InputError::new(format!(
+            "scene '{name}': vertex {} has non-finite texture coordinates",
+            v + 1
+        )));
+    }
+    let mut seen: Vec<&Arc<Texture>> = Vec::new();
+    let mut texels = 0u64;
+    for t in materials.iter().filter_map(|m| m.albedo_texture.as_ref()) {
+        if !seen.iter().any(|s| Arc::ptr_eq(s, t)) {
+            seen.push(t);
+            texels += u64::from(t.width) * u64::from(t.height);
+        }
+    }
+    if texels > texture::MAX_SCENE_TEXELS {
+        return Err(InputError::new(format!(
+            "scene '{name}': its textures hold {texels} texels, over vkgi's limit of {}",
+            texture::MAX_SCENE_TEXELS
+        )));
+    }
+    Ok(())
+}
+
 /// Check a light and return it with a unit spot direction (normalised in f64, so a long
 /// direction vector does not overflow).
 fn validate_light(index: usize, mut light: Light) -> Result<Light, String> {
@@ -379,12 +480,7 @@ mod tests {
     }
 
     fn material() -> Vec<Material> {
-        vec![Material {
-            name: "m".into(),
-            albedo: Vec3::splat(0.5),
-            emission: Vec3::ZERO,
-            two_sided: false,
-        }]
+        vec![Material::diffuse("m", Vec3::splat(0.5))]
     }
 
     fn point(position: Vec3, flux: f32, color: Vec3) -> Light {

@@ -1,4 +1,5 @@
-//! OBJ + MTL through tobj: `Kd` is the albedo, `Ke` the emitted radiance. Non-finite vertices
+//! OBJ + MTL through tobj: `Kd` is the albedo (times the `map_Kd` texture, read relative to the
+//! OBJ, at the `vt` coordinates), `Ke` the emitted radiance. Non-finite vertices
 //! (after scaling), faces of fewer than three vertices, `usemtl` of a material no MTL defines,
 //! colour lines of fewer than three numbers, missing files and malformed data are input
 //! errors; zero-area triangles are skipped. Both files are checked before tobj reads them (it
@@ -6,11 +7,12 @@
 
 use std::cell::RefCell;
 use std::io::{BufRead, BufReader, Read};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
-use super::{Material, Mesh};
+use super::{Material, Mesh, Texture};
 use crate::error::{InputError, catch_library_panic};
 
 /// Where an OBJ comes from: the file system, or text embedded in the binary (built-in scenes).
@@ -230,9 +232,18 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
         )));
     }
 
+    let texture_dir = match source {
+        ObjSource::File(path) => Some(path.parent().unwrap_or(Path::new("."))),
+        ObjSource::Embedded { .. } => None,
+    };
+    let mut textures = TextureCache::default();
     let mut materials = Vec::with_capacity(obj_materials.len() + 1);
     for m in &obj_materials {
-        materials.push(convert_material(&name, m)?);
+        let mut material = convert_material(&name, m)?;
+        if let Some(file) = &m.diffuse_texture {
+            material.albedo_texture = Some(textures.load(&name, texture_dir, file)?);
+        }
+        materials.push(material);
     }
     let default_material = materials.len() as u32;
     let mut uses_default = false;
@@ -243,6 +254,7 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
     let mut mesh = Mesh {
         positions: Vec::with_capacity(vertices),
         normals: Vec::with_capacity(vertices),
+        texcoords: Vec::with_capacity(vertices),
         indices: Vec::with_capacity(triangles),
         materials: Vec::with_capacity(triangles),
     };
@@ -282,6 +294,22 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
             }
         };
         let has_normals = m.normals.len() == m.positions.len();
+        let has_texcoords = m.texcoords.len() / 2 == vertex_count;
+        // OBJ's v runs up the image; vkgi's (glTF's) runs down its rows.
+        let texcoord = |i: usize| {
+            if has_texcoords {
+                Vec2::new(m.texcoords[2 * i], 1.0 - m.texcoords[2 * i + 1])
+            } else {
+                Vec2::ZERO
+            }
+        };
+        if let Some(i) = (0..vertex_count).find(|&i| !texcoord(i).is_finite()) {
+            return Err(InputError::new(format!(
+                "{name}: object '{}' vertex {} has non-finite texture coordinates",
+                model.name,
+                i + 1
+            )));
+        }
         let position = |i: usize| {
             Vec3::new(
                 m.positions[3 * i],
@@ -338,6 +366,7 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
                     remap[i] = mesh.positions.len() as u32;
                     mesh.positions.push(position(i));
                     mesh.normals.push(normal(i));
+                    mesh.texcoords.push(texcoord(i));
                 }
                 remap[i]
             });
@@ -354,14 +383,50 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
         log::warn!("{name}: skipped {skipped} zero-area triangle(s)");
     }
     if uses_default {
-        materials.push(Material {
-            name: "default".into(),
-            albedo: Vec3::splat(DEFAULT_ALBEDO),
-            emission: Vec3::ZERO,
-            two_sided: false,
-        });
+        materials.push(Material::diffuse("default", Vec3::splat(DEFAULT_ALBEDO)));
     }
     Ok((mesh, materials))
+}
+
+/// Textures a material library names, each read once however many materials use it.
+#[derive(Default)]
+struct TextureCache {
+    loaded: Vec<(PathBuf, Arc<Texture>)>,
+}
+
+impl TextureCache {
+    /// The texture `map_Kd` names, relative to the OBJ's folder. Options before the file name
+    /// (`-s`, `-o`, ...) are ignored with a warning.
+    fn load(
+        &mut self,
+        obj: &str,
+        dir: Option<&Path>,
+        map_kd: &str,
+    ) -> Result<Arc<Texture>, InputError> {
+        let Some(dir) = dir else {
+            return Err(InputError::new(format!(
+                "{obj}: map_Kd {map_kd}: a built-in scene cannot name texture files"
+            )));
+        };
+        let file = match map_kd.trim() {
+            option if option.starts_with('-') => {
+                let file = option.split_whitespace().last().unwrap_or_default();
+                log::warn!("{obj}: map_Kd options ignored, reading {file}");
+                file
+            }
+            file => file,
+        };
+        if file.is_empty() {
+            return Err(InputError::new(format!("{obj}: map_Kd names no file")));
+        }
+        let path = dir.join(file);
+        if let Some((_, texture)) = self.loaded.iter().find(|(p, _)| *p == path) {
+            return Ok(texture.clone());
+        }
+        let texture = Arc::new(Texture::load(&path)?);
+        self.loaded.push((path, texture.clone()));
+        Ok(texture)
+    }
 }
 
 fn convert_material(file: &str, m: &tobj::Material) -> Result<Material, InputError> {
@@ -384,6 +449,7 @@ fn convert_material(file: &str, m: &tobj::Material) -> Result<Material, InputErr
         albedo,
         emission,
         two_sided: false,
+        albedo_texture: None,
     })
 }
 
@@ -539,5 +605,46 @@ mod tests {
         )
         .unwrap_err();
         assert!(err.to_string().contains("once scaled by"), "{err}");
+    }
+
+    #[test]
+    fn map_kd_textures_are_read_beside_the_obj_with_flipped_v_and_shared() {
+        let dir = std::env::temp_dir().join(format!("vkgi-obj-texture-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("maps")).unwrap();
+        let image = image::RgbaImage::from_fn(2, 1, |x, _| {
+            image::Rgba([if x == 0 { 255 } else { 0 }, 0, 0, 255])
+        });
+        image.save(dir.join("maps/red.png")).unwrap();
+        let mtl =
+            "newmtl a\nKd 0.5 1 1\nmap_Kd maps/red.png\nnewmtl b\nmap_Kd -s 1 1 1 maps/red.png\n";
+        std::fs::write(dir.join("t.mtl"), mtl).unwrap();
+        let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.25\nvt 0.75 0.5\nvt 0 1\n\
+                   usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 3/3 2/2\n";
+        std::fs::write(dir.join("t.obj"), obj).unwrap();
+        let (mesh, materials) = load(&ObjSource::File(&dir.join("t.obj")), 1.0).unwrap();
+        let [a, b] = [&materials[0], &materials[1]].map(|m| m.albedo_texture.clone().unwrap());
+        assert!(Arc::ptr_eq(&a, &b), "one image, read once");
+        assert_eq!((a.width, a.height), (2, 1));
+        let corner = mesh.indices[0][0] as usize;
+        assert_eq!(mesh.texcoords[corner], Vec2::new(0.25, 0.75));
+        // u = 0.25 is the red texel's centre.
+        assert_eq!(
+            materials[0].albedo_at(Vec2::new(0.25, 0.5)),
+            Vec3::new(0.5, 0.0, 0.0)
+        );
+
+        std::fs::write(
+            dir.join("t.mtl"),
+            "newmtl a\nmap_Kd missing.png\nnewmtl b\n",
+        )
+        .unwrap();
+        let err = load(&ObjSource::File(&dir.join("t.obj")), 1.0).unwrap_err();
+        assert!(err.0.contains("missing.png: no such file"), "{err}");
+        std::fs::write(dir.join("maps/red.png"), b"not a png").unwrap();
+        std::fs::write(dir.join("t.mtl"), mtl).unwrap();
+        let err = load(&ObjSource::File(&dir.join("t.obj")), 1.0).unwrap_err();
+        assert!(err.0.contains("red.png"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -128,6 +128,7 @@ pub fn furnace(albedo: f32, emission: f32) -> Scene {
         emission: Vec3::splat(emission),
         // The camera sees the enclosure from inside, against its outward winding.
         two_sided: true,
+        albedo_texture: None,
     };
     let camera = Camera {
         position: Vec3::ZERO,
@@ -158,6 +159,7 @@ pub fn plane_under_point_light(albedo: f32, flux: f32) -> Scene {
         albedo: Vec3::splat(albedo),
         emission: Vec3::ZERO,
         two_sided: false,
+        albedo_texture: None,
     };
     let light = Light {
         position: Vec3::new(0.3, 1.0, -0.2),
@@ -172,6 +174,32 @@ pub fn plane_under_point_light(albedo: f32, flux: f32) -> Scene {
         vfov_deg: 50.0,
     };
     Scene::new("plane".into(), mesh, vec![material], vec![light], camera).unwrap()
+}
+
+/// `plane_under_point_light` with a 4x4 texture of distinct colours on the plane, repeated
+/// twice across it (texture coordinates -0.5 to 1.5 from corner to corner).
+pub fn textured_plane_under_point_light(flux: f32) -> Scene {
+    let mut scene = plane_under_point_light(1.0, flux);
+    for (p, uv) in scene.mesh.positions.iter().zip(&mut scene.mesh.texcoords) {
+        *uv = glam::Vec2::new(p.x, p.z) * 0.5 + 0.5;
+    }
+    let texels = (0..16u32)
+        .map(|i| {
+            let h = i.wrapping_mul(0x9E37_79B9) >> 8;
+            (h & 0xff) | (((h >> 8) & 0xff) << 8) | (((h >> 16) & 0xff) << 16) | 0xff << 24
+        })
+        .collect();
+    let texture = vkgi::scene::Texture::new("checker", 4, 4, texels).unwrap();
+    scene.materials[0].albedo = Vec3::new(1.0, 0.9, 0.8);
+    scene.materials[0].albedo_texture = Some(std::sync::Arc::new(texture));
+    Scene::new(
+        "textured plane".into(),
+        scene.mesh,
+        scene.materials,
+        scene.lights,
+        scene.camera,
+    )
+    .unwrap()
 }
 
 /// Render `frames` frames of `scene` with LPV `settings` and return the linear HDR pixels.
@@ -238,12 +266,14 @@ pub fn plane_under_square_light(albedo: f32, side: f32, height: f32, le: f32) ->
             albedo: Vec3::splat(albedo),
             emission: Vec3::ZERO,
             two_sided: false,
+            albedo_texture: None,
         },
         Material {
             name: "light".into(),
             albedo: Vec3::ZERO,
             emission: Vec3::splat(le),
             two_sided: false,
+            albedo_texture: None,
         },
     ];
     let camera = Camera {

@@ -5,6 +5,9 @@
 // (extent / size)² cos³ of the angle to the view axis). Runs with raster/gbuffer.vert, whose
 // "camera position" is the light's position here.
 #include "common/scene.glsl"
+
+layout(binding = RSM_TEXTURES, std430) readonly buffer Textures { uint texture_words[]; };
+#include "common/texture.glsl"
 #include "common/lights.glsl"
 
 layout(binding = RSM_MATERIALS, std430) readonly buffer Materials { Material materials[]; };
@@ -22,6 +25,7 @@ layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) flat in vec3 in_face_normal;
 layout(location = 3) flat in uint in_material;
+layout(location = 4) in vec2 in_texcoord;
 
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
@@ -42,5 +46,5 @@ void main() {
     vec3 intensity = irradiance_factor * distance * distance;
     out_position = vec4(in_position, 1.0);
     out_normal = vec4(n, 0.0);
-    out_flux = vec4(materials[in_material].albedo.rgb * intensity * solid_angle, 0.0);
+    out_flux = vec4(material_albedo(materials[in_material], in_texcoord) * intensity * solid_angle, 0.0);
 }

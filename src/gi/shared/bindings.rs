@@ -7,4 +7,5 @@ crate::shared_constants! {
     RSM_MATERIALS: u32 = 2;
     RSM_LIGHTS: u32 = 3;
     RSM_VIEWS: u32 = 4;
+    RSM_TEXTURES: u32 = 5;
 }

@@ -117,6 +117,7 @@ impl Rsm {
                         Binding::read(ids::RSM_MATERIALS, &s.materials),
                         Binding::read(ids::RSM_LIGHTS, &s.lights),
                         Binding::read(ids::RSM_VIEWS, &s.shadow_views),
+                        Binding::read(ids::RSM_TEXTURES, &s.textures),
                     ],
                     push: &push,
                     color: &[

@@ -1,7 +1,7 @@
 //! A small mesh builder for the generated scenes: materials, quads (optionally subdivided into
 //! patches, as seed 004's subdivided boxes), boxes and transforms.
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 
 use crate::error::InputError;
 use crate::scene::{Camera, Light, Material, Mesh, Scene};
@@ -18,10 +18,8 @@ impl Builder {
     /// A diffuse material (one-sided emission, if any); returns its index.
     pub fn material(&mut self, name: &str, albedo: Vec3, emission: Vec3) -> u32 {
         self.materials.push(Material {
-            name: name.to_string(),
-            albedo,
             emission,
-            two_sided: false,
+            ..Material::diffuse(name, albedo)
         });
         self.materials.len() as u32 - 1
     }
@@ -48,6 +46,7 @@ impl Builder {
                 let p = self.place(p);
                 self.mesh.positions.push(p);
                 self.mesh.normals.push(Vec3::ZERO);
+                self.mesh.texcoords.push(Vec2::new(u, v));
             }
         }
         let at = |i: usize, j: usize| first + (j * (n + 1) + i) as u32;
