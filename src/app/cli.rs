@@ -143,7 +143,7 @@ pub struct GiArgs {
 
 #[derive(Args, Debug, Clone)]
 pub struct RenderArgs {
-    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    /// Built-in scene (see `vkgi scene --list`), a scene file (.toml), a glTF 2.0 scene (.gltf, .glb) or a mesh (.obj).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Tone-mapped PNG output.
@@ -168,7 +168,7 @@ pub struct RenderArgs {
 
 #[derive(Args, Debug, Clone)]
 pub struct ViewArgs {
-    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    /// Built-in scene (see `vkgi scene --list`), a scene file (.toml), a glTF 2.0 scene (.gltf, .glb) or a mesh (.obj).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Present without waiting for vertical sync (mailbox or immediate when offered).
@@ -215,7 +215,7 @@ pub struct ViewArgs {
 
 #[derive(Args, Debug, Clone)]
 pub struct ReferenceArgs {
-    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    /// Built-in scene (see `vkgi scene --list`), a scene file (.toml), a glTF 2.0 scene (.gltf, .glb) or a mesh (.obj).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Samples per pixel.
@@ -275,7 +275,7 @@ pub struct CompareArgs {
 
 #[derive(Args, Debug, Clone)]
 pub struct ProfileCommandArgs {
-    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    /// Built-in scene (see `vkgi scene --list`), a scene file (.toml), a glTF 2.0 scene (.gltf, .glb) or a mesh (.obj).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Methods to profile, comma-separated (default: every registered method).
@@ -309,7 +309,7 @@ pub struct ProfileCommandArgs {
 
 #[derive(Args, Debug, Clone)]
 pub struct ReportArgs {
-    /// Built-in scene (cornell, two-rooms), a scene file (.toml) or a mesh (.obj).
+    /// Built-in scene (see `vkgi scene --list`), a scene file (.toml), a glTF 2.0 scene (.gltf, .glb) or a mesh (.obj).
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Folder for report.md, report.json, the plots, images/ and the cached reference.

@@ -7,6 +7,7 @@ pub mod camera;
 pub mod emitters;
 pub mod file;
 pub mod generate;
+pub mod gltf_scene;
 pub mod gpu;
 pub mod intersect;
 pub mod light;
@@ -145,8 +146,9 @@ pub struct Scene {
 pub const DEFAULT_AREA_SAMPLES: u32 = 16;
 
 impl Scene {
-    /// Load a scene: a built-in name (`cornell`, `two-rooms`), a `.toml` scene file, or a bare
-    /// `.obj` (then a point light and camera are framed from its bounds).
+    /// Load a scene: a built-in name (`cornell`, `two-rooms`, the generated ones), a `.toml`
+    /// scene file, a glTF 2.0 scene (`.gltf`, `.glb`), or a bare `.obj` (then a point light and
+    /// camera are framed from its bounds).
     pub fn load(spec: &str) -> Result<Scene, InputError> {
         if let Some(scene) = builtin::load(spec)? {
             return Ok(scene);
@@ -158,6 +160,7 @@ impl Scene {
             .map(str::to_ascii_lowercase);
         match extension.as_deref() {
             Some("toml") => file::load_scene_file(path),
+            Some("gltf" | "glb") => gltf_scene::load(path),
             Some("obj") => {
                 let (mesh, materials) = obj::load(&obj::ObjSource::File(path), 1.0)?;
                 let name = path
@@ -167,7 +170,7 @@ impl Scene {
                 Scene::framed(name, mesh, materials)
             }
             _ => Err(InputError::new(format!(
-                "unknown scene '{spec}': expected a built-in name ({}), a .toml scene file or an .obj mesh",
+                "unknown scene '{spec}': expected a built-in name ({}), a .toml scene file, a glTF scene (.gltf, .glb) or an .obj mesh",
                 builtin::NAMES.join(", ")
             ))),
         }
@@ -177,19 +180,7 @@ impl Scene {
     pub fn framed(name: String, mesh: Mesh, materials: Vec<Material>) -> Result<Scene, InputError> {
         let (min, max) = check_mesh(&name, &mesh)?;
         let camera = Camera::framing(min, max);
-        let radius = 0.5 * (max - min).length().max(1e-3);
-        let center = 0.5 * (min + max);
-        let position = center + Vec3::new(0.35, 1.2, 1.6) * radius;
-        let distance = (position - center).length();
-        // About 3 W/m² at the centre of the bounds: a mid-grey exposure.
-        let flux = 3.0 * 4.0 * std::f32::consts::PI * distance * distance;
-        let light = Light {
-            position,
-            kind: LightKind::Point,
-            flux,
-            color: Vec3::ONE,
-        };
-        Scene::new(name, mesh, materials, vec![light], camera)
+        Scene::new(name, mesh, materials, vec![framing_light(min, max)], camera)
     }
 
     /// Assemble and validate a scene.
@@ -339,6 +330,21 @@ impl Scene {
             offset,
         ));
         lights
+    }
+}
+
+/// A point light above and in front of the box `[min, max]`, about 3 W/m² at its centre (a
+/// mid-grey exposure), for meshes that come without lights.
+pub fn framing_light(min: Vec3, max: Vec3) -> Light {
+    let radius = 0.5 * (max - min).length().max(1e-3);
+    let center = 0.5 * (min + max);
+    let position = center + Vec3::new(0.35, 1.2, 1.6) * radius;
+    let distance = (position - center).length();
+    Light {
+        position,
+        kind: LightKind::Point,
+        flux: 3.0 * 4.0 * std::f32::consts::PI * distance * distance,
+        color: Vec3::ONE,
     }
 }
 
