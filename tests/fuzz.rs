@@ -13,12 +13,12 @@
 
 use std::path::Path;
 
-use glam::Vec3;
+use common::fuzzing::{EXTREMES, Rng, Tally, env_number, outcome, quietly};
 use vkgi::gi::registry::{self, Setup};
 use vkgi::render::runner::run_frames;
 use vkgi::render::{Frame, FrameOptions};
+use vkgi::scene::Scene;
 use vkgi::scene::file::load_embedded;
-use vkgi::scene::{LightKind, MAX_COORDINATE, MAX_POWER, Scene};
 
 mod common;
 
@@ -42,34 +42,6 @@ const SCENES: [(&str, &str, &str); 3] = [
         include_str!("../assets/two-rooms.obj"),
         include_str!("../assets/two-rooms.mtl"),
     ),
-];
-
-/// Numbers that break naive arithmetic.
-const EXTREMES: &[&str] = &[
-    "1e38",
-    "-1e38",
-    "3.4e38",
-    "1e39",
-    "-1e39",
-    "nan",
-    "NaN",
-    "inf",
-    "-inf",
-    "0",
-    "-0",
-    "1e-45",
-    "-1e-45",
-    "1e-30",
-    "99999999999",
-    "-1",
-    "4294967296",
-    "2147483648",
-    "1e30",
-    "0.5",
-    "",
-    "x",
-    "1,",
-    "--1",
 ];
 
 /// Lines a hostile file might hold.
@@ -146,34 +118,6 @@ const LINES: &[&str] = &[
 
 /// Values of the wrong type for a TOML key.
 const WRONG_TYPES: &[&str] = &["\"text\"", "[1, 2]", "true", "{ a = 1 }", "[]", "1"];
-
-/// splitmix64: a small seeded generator, so every case can be replayed from its number.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-
-    fn pick<'a>(&mut self, items: &[&'a str]) -> &'a str {
-        items[self.below(items.len())]
-    }
-}
-
-fn env_number(name: &str, default: u64) -> u64 {
-    std::env::var(name)
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(default)
-}
 
 /// One mutation of `text`.
 fn mutate(rng: &mut Rng, text: &str) -> String {
@@ -266,99 +210,12 @@ fn case(seed: u64, n: u64) -> [String; 3] {
     texts
 }
 
-/// Why a loaded scene breaks an invariant the renderer relies on, if it does.
-fn broken_invariant(scene: &Scene) -> Option<String> {
-    let within = |v: Vec3| v.is_finite() && v.abs().max_element() <= MAX_COORDINATE;
-    if scene.mesh.triangle_count() == 0 {
-        return Some("no triangles".into());
-    }
-    if !scene.mesh.positions.iter().all(|&p| within(p)) {
-        return Some("a vertex out of range".into());
-    }
-    if !scene
-        .mesh
-        .normals
-        .iter()
-        .all(|n| *n == Vec3::ZERO || (n.is_finite() && (n.length() - 1.0).abs() < 1e-3))
-    {
-        return Some("a normal neither unit nor zero".into());
-    }
-    let vertices = scene.mesh.positions.len();
-    if scene
-        .mesh
-        .indices
-        .iter()
-        .flatten()
-        .any(|&i| i as usize >= vertices)
-    {
-        return Some("a triangle's vertex index out of range".into());
-    }
-    if (0..scene.mesh.triangle_count()).any(|t| scene.mesh.face_normal(t) == Vec3::ZERO) {
-        return Some("a degenerate triangle".into());
-    }
-    if scene
-        .mesh
-        .materials
-        .iter()
-        .any(|&m| m as usize >= scene.materials.len())
-    {
-        return Some("a triangle's material out of range".into());
-    }
-    for m in &scene.materials {
-        if !(m.albedo.is_finite() && m.albedo.min_element() >= 0.0 && m.albedo.max_element() <= 1.0)
-        {
-            return Some(format!("albedo {}", m.albedo));
-        }
-        if !(m.emission.is_finite() && m.emission.max_element() <= MAX_POWER) {
-            return Some(format!("emission {}", m.emission));
-        }
-    }
-    for light in &scene.lights {
-        if !within(light.position) {
-            return Some(format!("light position {}", light.position));
-        }
-        let power = light.color * light.flux;
-        let intensity = light.intensity();
-        if !(power.is_finite() && intensity.is_finite() && power.max_element() <= MAX_POWER) {
-            return Some(format!("light power {power}"));
-        }
-        if let LightKind::Spot { direction, .. } = light.kind
-            && (direction.length() - 1.0).abs() > 1e-3
-        {
-            return Some(format!("spot direction {direction}"));
-        }
-    }
-    let aspect = [0.75f32, 1.0, 4.0 / 3.0];
-    if !aspect.iter().all(|&a| {
-        scene
-            .camera
-            .view_projection(a, scene.bounds_min, scene.bounds_max)
-            .is_finite()
-    }) {
-        return Some("a non-finite camera projection".into());
-    }
-    None
-}
-
 /// What loading one case gave: Ok (with a broken invariant, if any) or an error line.
 fn load(texts: &[String; 3]) -> Result<Result<Scene, String>, String> {
     let [toml, obj, mtl] = texts;
-    let loaded = std::panic::catch_unwind(|| load_embedded("fuzz", toml, obj, mtl));
-    match loaded {
-        Err(payload) => Err(format!(
-            "panic: {}",
-            vkgi::error::panic_message(payload.as_ref())
-        )),
-        Ok(Err(e)) if e.0.contains("failed on this input") => Err(format!("caught panic: {e}")),
-        Ok(Err(e)) if e.0.is_empty() || e.0.contains('\n') => {
-            Err(format!("not one error line: {:?}", e.0))
-        }
-        Ok(Err(e)) => Ok(Err(e.0)),
-        Ok(Ok(scene)) => match broken_invariant(&scene) {
-            Some(why) => Err(format!("loaded, but {why}")),
-            None => Ok(Ok(scene)),
-        },
-    }
+    outcome(std::panic::catch_unwind(|| {
+        load_embedded("fuzz", toml, obj, mtl)
+    }))
 }
 
 fn write_corpus(dir: &Path, n: u64, texts: &[String; 3]) {
@@ -396,41 +253,17 @@ fn mutated_scene_files_load_or_fail_with_one_line_never_panic() {
     let seed = env_number("VKGI_FUZZ_SEED", 0x5EED_F022);
     let cases = env_number("VKGI_FUZZ_CASES", 10_000);
     let corpus = std::env::var_os("VKGI_FUZZ_CORPUS").map(std::path::PathBuf::from);
-    // Panics inside the loader are what this test looks for: keep their messages off stderr.
-    let previous_hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let (mut loaded, mut refused, mut failures) = (0u64, 0u64, Vec::new());
-    for n in 0..cases {
-        let texts = case(seed, n);
-        if let Some(dir) = &corpus {
-            write_corpus(dir, n, &texts);
+    let mut tally = Tally::default();
+    quietly(|| {
+        for n in 0..cases {
+            let texts = case(seed, n);
+            if let Some(dir) = &corpus {
+                write_corpus(dir, n, &texts);
+            }
+            tally.record(n, load(&texts));
         }
-        match load(&texts) {
-            Ok(Ok(_)) => loaded += 1,
-            Ok(Err(_)) => refused += 1,
-            Err(why) => failures.push(format!("case {n}: {why}")),
-        }
-    }
-    std::panic::set_hook(previous_hook);
-    eprintln!(
-        "fuzz: {cases} cases (seed {seed:#x}): {loaded} loaded and valid, {refused} refused with one line, {} failures",
-        failures.len()
-    );
-    assert!(
-        failures.is_empty(),
-        "{} of {cases} cases failed (replay with VKGI_FUZZ_SEED={seed}):\n{}",
-        failures.len(),
-        failures
-            .iter()
-            .take(20)
-            .cloned()
-            .collect::<Vec<_>>()
-            .join("\n")
-    );
-    assert!(
-        loaded > 0 && refused > 0,
-        "the mutations exercise both outcomes"
-    );
+    });
+    tally.assert_clean("fuzz", cases, seed, "VKGI_FUZZ_SEED");
 }
 
 #[test]
@@ -438,17 +271,17 @@ fn loadable_mutated_scenes_render_finite_with_every_method() {
     let seed = env_number("VKGI_FUZZ_SEED", 0x5EED_F022) ^ 0xFACE;
     let wanted = env_number("VKGI_FUZZ_RENDERS", 8);
     let gpu = common::gpu();
-    let previous_hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let mut scenes = Vec::new();
-    let mut n = 0;
-    while (scenes.len() as u64) < wanted && n < 100 * wanted {
-        if let Ok(Ok(scene)) = load(&case(seed, n)) {
-            scenes.push((n, scene));
+    let scenes = quietly(|| {
+        let mut scenes = Vec::new();
+        let mut n = 0;
+        while (scenes.len() as u64) < wanted && n < 100 * wanted {
+            if let Ok(Ok(scene)) = load(&case(seed, n)) {
+                scenes.push((n, scene));
+            }
+            n += 1;
         }
-        n += 1;
-    }
-    std::panic::set_hook(previous_hook);
+        scenes
+    });
     assert_eq!(scenes.len() as u64, wanted, "enough loadable cases");
     let options = FrameOptions {
         width: 32,

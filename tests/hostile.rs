@@ -5,6 +5,11 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use common::gltf_fixture::{glb_bytes, gltf_document};
+use serde_json::json;
+
+mod common;
+
 fn vkgi(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_vkgi"))
         .args(args)
@@ -411,4 +416,64 @@ fn a_temporary_left_by_a_killed_writer_is_cleaned_on_the_next_write() {
     ]);
     assert!(output.status.success());
     assert!(out.is_file() && !stale.exists());
+}
+
+#[test]
+fn malformed_gltf_files_the_gltf_crate_panics_on_are_one_error_line() {
+    let dir = scratch("gltf");
+    // Each breaks the gltf crate 1.4.1 (a panic inside it) unless vkgi checks it first.
+    type Breakage = (&'static str, fn(&mut serde_json::Value), &'static str);
+    let breakages: [Breakage; 3] = [
+        ("no-accessors", |d| d["accessors"] = json!([]), "POSITION"),
+        (
+            "no-mime-type",
+            |d| {
+                d["images"][0].as_object_mut().unwrap().remove("mimeType");
+            },
+            "mimeType",
+        ),
+        (
+            "view-outside-buffer",
+            |d| d["bufferViews"][6]["byteOffset"] = json!(1 << 20),
+            "outside buffer",
+        ),
+    ];
+    for (name, break_it, needle) in breakages {
+        let (mut document, bin) = gltf_document(true, None);
+        break_it(&mut document);
+        let path = dir.join(format!("{name}.glb"));
+        std::fs::write(&path, glb_bytes(&document, bin)).unwrap();
+        assert_bad_input(&render(path.to_str().unwrap(), &[]), needle);
+    }
+    let truncated = dir.join("truncated.glb");
+    let (document, bin) = gltf_document(true, None);
+    std::fs::write(&truncated, &glb_bytes(&document, bin)[..100]).unwrap();
+    assert_bad_input(&render(truncated.to_str().unwrap(), &[]), "truncated.glb");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn unsupported_gltf_features_are_one_warning_each_not_an_error() {
+    let dir = scratch("gltf-unsupported");
+    let (mut document, bin) = gltf_document(true, None);
+    document["skins"] = json!([{"joints": [1]}]);
+    document["nodes"][0]["skin"] = json!(0);
+    document["extensionsUsed"] = json!(["KHR_lights_punctual", "KHR_materials_transmission"]);
+    document["materials"][0]["normalTexture"] = json!({"index": 0});
+    document["materials"][1]["normalTexture"] = json!({"index": 0});
+    let path = dir.join("scene.glb");
+    std::fs::write(&path, glb_bytes(&document, bin)).unwrap();
+    let output = render(
+        path.to_str().unwrap(),
+        &["--out", dir.join("o.png").to_str().unwrap()],
+    );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+    let warnings: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    for needle in ["KHR_materials_transmission", "normal", "skin"] {
+        let count = warnings.iter().filter(|l| l.contains(needle)).count();
+        assert_eq!(count, 1, "one warning about {needle}: {stderr}");
+    }
+    assert_eq!(warnings.len(), 3, "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

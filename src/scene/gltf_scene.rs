@@ -12,6 +12,7 @@ use std::sync::Arc;
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use gltf::khr_lights_punctual::Kind;
 
+use super::gltf_guard;
 use super::texture::linear_to_srgb;
 use super::{Camera, Light, LightKind, Material, Mesh, Scene, Texture};
 use crate::error::{InputError, catch_library_panic};
@@ -33,9 +34,11 @@ pub fn load(path: &Path) -> Result<Scene, InputError> {
             "{name}: no such file (a glTF scene)"
         )));
     }
-    let (document, buffers, images) = catch_library_panic("the glTF reader", || {
-        gltf::import(path).map_err(|e| InputError::new(format!("{name}: {}", describe(&e))))
-    })?;
+    gltf_guard::check(path, &name)?;
+    let (document, buffers, images) =
+        catch_library_panic(&format!("{name}: the glTF reader"), || {
+            gltf::import(path).map_err(|e| InputError::new(format!("{name}: {}", describe(&e))))
+        })?;
     let mut reader = Reader {
         name: &name,
         buffers: &buffers,

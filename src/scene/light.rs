@@ -10,6 +10,11 @@ pub const WIDE_SPOT_DEG: f32 = 60.0;
 /// Widest spot cone (half-angle, degrees): a uniform hemisphere.
 pub const MAX_CONE_DEG: f32 = 90.0;
 
+/// Narrowest spot cone (half-angle, degrees): narrower cones' solid angles fall below f32's
+/// resolution of the flux-to-intensity division (the fuzzing pass found a cone of 1e-45
+/// radians giving a NaN intensity).
+pub const MIN_CONE_DEG: f32 = 0.01;
+
 /// The shape of a light's emission.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {

@@ -7,6 +7,7 @@ pub mod camera;
 pub mod emitters;
 pub mod file;
 pub mod generate;
+mod gltf_guard;
 pub mod gltf_scene;
 pub mod gpu;
 pub mod intersect;
@@ -458,11 +459,12 @@ fn validate_light(index: usize, mut light: Light) -> Result<Light, String> {
         }
         *direction = unit;
         if !(cone_angle_deg.is_finite()
-            && *cone_angle_deg > 0.0
+            && *cone_angle_deg >= light::MIN_CONE_DEG
             && *cone_angle_deg <= light::MAX_CONE_DEG)
         {
             return Err(format!(
-                "{what}: cone_angle is the half-angle of the cone and must be in (0, {}] degrees",
+                "{what}: cone_angle is the half-angle of the cone and must be in [{}, {}] degrees",
+                light::MIN_CONE_DEG,
                 light::MAX_CONE_DEG
             ));
         }

@@ -1,6 +1,9 @@
 //! Helpers shared by the integration tests: a validated GPU and one-frame renders.
 #![allow(dead_code)]
 
+pub mod fuzzing;
+pub mod gltf_fixture;
+
 use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, GpuOptions};
 use vkgi::render::{Frame, FrameOptions};
