@@ -41,6 +41,9 @@ pub enum Command {
     /// Every GI method over a grid of settings, scored against the cached reference: speed
     /// against error as report.md, report.json, plots and an image strip.
     Report(ReportArgs),
+    /// List the built-in scenes, or write one (or any scene vkgi reads: a glTF converted, say)
+    /// as the files vkgi reads: OBJ, MTL, PNG textures and a scene file (.toml).
+    Scene(SceneArgs),
 }
 
 /// Which GPU, and whether to validate.
@@ -334,6 +337,23 @@ pub struct ReportArgs {
     pub grid: MethodGrid,
     #[command(flatten)]
     pub gpu: GpuArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+#[command(group(clap::ArgGroup::new("action").required(true).args(["list", "write"])))]
+pub struct SceneArgs {
+    /// The scene to write: a built-in name, a scene file (.toml), a glTF 2.0 scene (.gltf,
+    /// .glb) or a mesh (.obj).
+    #[arg(requires = "write")]
+    pub scene: Option<String>,
+    /// List the built-in scenes, a line about each.
+    #[arg(long, conflicts_with = "scene")]
+    pub list: bool,
+    /// Folder to write SCENE into (created if missing): NAME.obj, NAME.mtl, NAME.toml and
+    /// NAME-texture-K.png for each albedo texture; `vkgi render --scene DIR/NAME.toml` renders
+    /// it as SCENE.
+    #[arg(long, value_name = "DIR", requires = "scene")]
+    pub write: Option<PathBuf>,
 }
 
 /// Parse `WIDTHxHEIGHT` (range checks happen against the device later).

@@ -11,6 +11,7 @@ pub mod progress;
 mod reference;
 pub mod render;
 pub mod report;
+mod scene;
 mod view;
 
 pub use cli::{Cli, Command};
@@ -24,6 +25,7 @@ pub fn run(command: &Command) -> anyhow::Result<()> {
         Command::Compare(args) => compare::run(args),
         Command::Profile(args) => profile::run_command(args),
         Command::Report(args) => report::run_command(args),
+        Command::Scene(args) => scene::run(args),
     }
 }
 

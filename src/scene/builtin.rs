@@ -6,6 +6,7 @@ use crate::error::InputError;
 
 struct Builtin {
     name: &'static str,
+    about: &'static str,
     scene_file: &'static str,
     obj: &'static str,
     mtl: &'static str,
@@ -14,21 +15,35 @@ struct Builtin {
 const BUILTINS: &[Builtin] = &[
     Builtin {
         name: "cornell",
+        about: "the Cornell box (stored OBJ) under a spot light, seed 000's test scene",
         scene_file: include_str!("../../assets/scenes/cornell.toml"),
         obj: include_str!("../../assets/cornell-box.obj"),
         mtl: include_str!("../../assets/cornell-box.mtl"),
     },
     Builtin {
         name: "two-rooms",
+        about: "two rooms sealed by a wall, a spot light in one (stored OBJ): light in the other is a leak",
         scene_file: include_str!("../../assets/scenes/two-rooms.toml"),
         obj: include_str!("../../assets/two-rooms.obj"),
         mtl: include_str!("../../assets/two-rooms.mtl"),
     },
 ];
 
-/// Names of the built-in scenes stored as files (the generated ones are in
-/// [`super::generate::NAMES`]).
-pub const NAMES: &[&str] = &["cornell", "two-rooms"];
+/// Every built-in scene, stored or generated, with a line about it.
+pub fn catalogue() -> impl Iterator<Item = (&'static str, &'static str)> {
+    BUILTINS
+        .iter()
+        .map(|b| (b.name, b.about))
+        .chain(super::generate::SCENES.iter().copied())
+}
+
+/// The built-in scenes' names, comma-separated.
+pub fn names() -> String {
+    catalogue()
+        .map(|(name, _)| name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
 
 /// The built-in (stored or generated) scene called `name`, if there is one.
 pub fn load(name: &str) -> Result<Option<Scene>, InputError> {
@@ -43,9 +58,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_builtin_loads_and_is_listed() {
-        assert_eq!(NAMES.len(), BUILTINS.len());
-        for name in NAMES {
+    fn every_stored_builtin_loads_and_is_listed() {
+        for name in BUILTINS.iter().map(|b| b.name) {
+            assert!(catalogue().any(|(n, _)| n == name));
             let scene = load(name).unwrap().unwrap();
             assert!(scene.mesh.triangle_count() > 0);
             assert!(!scene.lights.is_empty());

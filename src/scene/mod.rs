@@ -5,6 +5,7 @@ pub mod builtin;
 pub mod bvh;
 pub mod camera;
 pub mod emitters;
+pub mod export;
 pub mod file;
 pub mod generate;
 mod gltf_guard;
@@ -172,7 +173,7 @@ impl Scene {
             }
             _ => Err(InputError::new(format!(
                 "unknown scene '{spec}': expected a built-in name ({}), a .toml scene file, a glTF scene (.gltf, .glb) or an .obj mesh",
-                builtin::NAMES.join(", ")
+                builtin::names()
             ))),
         }
     }

@@ -1,5 +1,6 @@
 //! OBJ + MTL through tobj: `Kd` is the albedo (times the `map_Kd` texture, read relative to the
-//! OBJ, at the `vt` coordinates), `Ke` the emitted radiance. Non-finite vertices
+//! OBJ, at the `vt` coordinates), `Ke` the emitted radiance (from the front face, by winding,
+//! unless the material says `two_sided 1`, vkgi's one extension of MTL). Non-finite vertices
 //! (after scaling), faces of fewer than three vertices, `usemtl` of a material no MTL defines,
 //! colour lines of fewer than three numbers, missing files and malformed data are input
 //! errors; zero-area triangles are skipped. Both files are checked before tobj reads them (it
@@ -444,11 +445,21 @@ fn convert_material(file: &str, m: &tobj::Material) -> Result<Material, InputErr
             m.name
         )));
     }
+    let two_sided = match m.unknown_param.get("two_sided").map(|v| v.trim()) {
+        None | Some("0") => false,
+        Some("1") => true,
+        Some(other) => {
+            return Err(InputError::new(format!(
+                "{file}: material '{}' has two_sided {other}; it must be 0 or 1",
+                m.name
+            )));
+        }
+    };
     Ok(Material {
         name: m.name.clone(),
         albedo,
         emission,
-        two_sided: false,
+        two_sided,
         albedo_texture: None,
     })
 }
@@ -487,6 +498,17 @@ mod tests {
             mats[mesh.materials[0] as usize].emission,
             Vec3::new(5.0, 4.0, 3.0)
         );
+    }
+
+    #[test]
+    fn emission_is_one_sided_unless_the_material_says_two_sided() {
+        let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl lamp\nf 1 2 3\n";
+        let (_, mats) = embedded(obj, MTL).unwrap();
+        assert!(!mats.iter().any(|m| m.two_sided));
+        let (_, mats) = embedded(obj, &format!("{MTL}two_sided 1\n")).unwrap();
+        assert!(mats.iter().find(|m| m.name == "lamp").unwrap().two_sided);
+        let bad = embedded(obj, &format!("{MTL}two_sided yes\n")).unwrap_err();
+        assert!(bad.to_string().contains("two_sided yes"), "{bad}");
     }
 
     #[test]

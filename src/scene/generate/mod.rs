@@ -10,15 +10,31 @@ pub mod lightwave;
 use crate::error::InputError;
 use crate::scene::Scene;
 
-/// Every generated scene's name (`atrium` also takes `atrium:D`, D its detail).
-pub const NAMES: &[&str] = &[
-    "cornell-area",
-    "cornell-area-closed",
-    "cornell-area-16",
-    "four-boxes",
-    "four-boxes-4",
-    "lightwave-boxes",
-    "atrium",
+/// Every generated scene's name and a line about it (`atrium` also takes `atrium:D`, D its
+/// detail).
+pub const SCENES: &[(&str, &str)] = &[
+    (
+        "cornell-area",
+        "the Cornell box as Cornell published it (mm), its 130x105 mm ceiling light an area light; open front",
+    ),
+    ("cornell-area-closed", "cornell-area with its front wall"),
+    (
+        "cornell-area-16",
+        "cornell-area with every quad split 2x2 twice (16 patches, light included; seed 004)",
+    ),
+    (
+        "four-boxes",
+        "four closed Cornell boxes in a 2x2 grid, the camera in one (seed 004)",
+    ),
+    ("four-boxes-4", "four-boxes with every quad split 2x2"),
+    (
+        "lightwave-boxes",
+        "seed 002's scene A: a red/green room, two boxes, a spot light looking down (spec 002 section 6)",
+    ),
+    (
+        "atrium",
+        "a procedural two-storey arcaded courtyard, 225k triangles, a spot sun through the open roof and a point lamp; atrium:D sets its detail D (default 5)",
+    ),
 ];
 
 /// The generated scene called `name`, if there is one.
@@ -52,7 +68,7 @@ mod tests {
 
     #[test]
     fn every_generated_scene_loads_with_light_and_a_camera() {
-        for name in NAMES.iter().filter(|n| **n != "atrium") {
+        for (name, _) in SCENES.iter().filter(|(n, _)| *n != "atrium") {
             let scene = match load(name) {
                 Ok(Some(s)) => s,
                 other => panic!("{name}: {:?}", other.err()),
