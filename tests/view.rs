@@ -220,6 +220,44 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
 }
 
 #[test]
+fn the_arrow_keys_move_an_emitter_and_the_method_is_rebuilt_when_they_let_go() {
+    let dir = scratch("emitter");
+    let profile = dir.join("profile.json");
+    // cornell-area has no punctual light: the arrows move its ceiling light. Per frame: ilpv
+    // (two presses of m), the emitter right twice, then two frames without arrows (ilpv is
+    // made again around the moved emitter).
+    let output = vkgi_windowed_in(
+        &dir,
+        &[
+            "view",
+            "--scene",
+            "cornell-area",
+            "--size",
+            "64x48",
+            "--frames",
+            "6",
+            "--keys",
+            "m,m,right,right,f1,f1",
+            "--profile-json",
+            profile.to_str().unwrap(),
+        ],
+    );
+    assert_success(&output);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap();
+    let runs = |name: &str| {
+        report["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == name)
+            .map_or(0, |p| p["per_frame_ns"].as_array().unwrap().len())
+    };
+    assert_eq!(runs("update vertices"), 2, "the emitter moved twice");
+    assert_eq!(runs("update lights"), 2, "its light samples followed");
+}
+
+#[test]
 fn view_rejects_bad_input_and_a_missing_display_with_one_line() {
     let output = vkgi(&["view", "--size", "0x0"]);
     assert_eq!(output.status.code(), Some(2));

@@ -27,6 +27,7 @@ use crate::imageio::HdrImage;
 use crate::render::runner::FRAMES_IN_FLIGHT;
 use crate::render::{Epilogue, Eye, Frame};
 use crate::scene::Scene;
+use crate::scene::movable::Movable;
 use crate::view::cave::Cave;
 use crate::view::fly::FlyCamera;
 use crate::view::output::{Output, cave_tiles};
@@ -45,7 +46,7 @@ const MAX_LIVE_SAMPLES: usize = 20_000;
 /// The viewer's own keys, for F1 (a method's setting keys follow them).
 const HELP: &[&str] = &[
     "W A S D  MOVE    Q E  DOWN/UP    DRAG  TURN    WHEEL  SPEED",
-    "ARROWS  MOVE THE LIGHT    PAGE UP/DOWN  LIGHT UP/DOWN",
+    "ARROWS  MOVE THE LIGHT    PAGE UP/DOWN  LIGHT UP/DOWN    L  NEXT LIGHT OR EMITTER",
     "I  INDIRECT ONLY    O  DIRECT ONLY    P  SCREENSHOT (PNG + EXR)    F1  HELP    ESC  QUIT",
 ];
 
@@ -247,6 +248,12 @@ struct Running {
     /// What the overlay says about the last settings change (e.g. a rejected lattice size).
     status: String,
     held: HashSet<KeyCode>,
+    /// What the arrow keys move (punctual lights, then emitters), and which of them.
+    movables: Vec<Movable>,
+    moving: usize,
+    /// An emitter moved since the GI method was made: it is made again once the keys let go
+    /// (its set-up reads the geometry).
+    geometry_moved: bool,
     dragging: bool,
     cursor: Option<(f32, f32)>,
     resize_pending: bool,
@@ -297,6 +304,8 @@ impl Running {
             fly.camera.position = cave.center;
             fly.camera.target = cave.center + cave.forward;
         }
+        let mut scene = scene;
+        let movables = scene.movables();
         let frame = Frame::new(&gpu, &scene, args.frame.options())?;
         let overrides = &args.gi.settings.values;
         let chosen = method::choose(&args.gi.method, overrides)?;
@@ -321,6 +330,9 @@ impl Running {
             settings,
             status: String::new(),
             held: HashSet::new(),
+            movables,
+            moving: 0,
+            geometry_moved: false,
             dragging: false,
             cursor: None,
             resize_pending: false,
@@ -477,6 +489,9 @@ impl Running {
                 self.direct_only = !self.direct_only;
                 self.frame.options.indirect_only = false;
             }
+            KeyCode::KeyL if !self.movables.is_empty() => {
+                self.moving = (self.moving + 1) % self.movables.len();
+            }
             code => {
                 let keyed = self
                     .method_index()
@@ -494,8 +509,8 @@ impl Running {
         Ok(Flow::Continue)
     }
 
-    /// Apply held keys for `seconds`: fly the camera, move the light.
-    fn apply_held_keys(&mut self, seconds: f32) {
+    /// Apply held keys for `seconds`: fly the camera, move the chosen light or emitter.
+    fn apply_held_keys(&mut self, seconds: f32) -> anyhow::Result<()> {
         let axis = |plus: KeyCode, minus: KeyCode| {
             f32::from(u8::from(self.held.contains(&plus)))
                 - f32::from(u8::from(self.held.contains(&minus)))
@@ -511,11 +526,24 @@ impl Running {
             axis(KeyCode::PageUp, KeyCode::PageDown),
             axis(KeyCode::ArrowDown, KeyCode::ArrowUp),
         );
-        if light != Vec3::ZERO && !self.scene.lights.is_empty() {
-            let step = light * 0.5 * self.fly.speed * seconds;
-            self.scene.lights[0].position += step;
-            self.frame.set_lights(&self.scene);
+        let Some(which) = self.movables.get(self.moving) else {
+            return Ok(());
+        };
+        if light == Vec3::ZERO {
+            if self.geometry_moved {
+                self.geometry_moved = false;
+                self.rebuild_technique()?;
+            }
+            return Ok(());
         }
+        let step = light * 0.5 * self.fly.speed * seconds;
+        self.scene.move_by(which, step);
+        if let Movable::Emitter { vertices, .. } = which {
+            self.frame.set_vertices(&self.scene, vertices.clone());
+            self.geometry_moved = true;
+        }
+        self.frame.set_lights(&self.scene);
+        Ok(())
     }
 
     fn redraw(&mut self, args: &ViewArgs) -> anyhow::Result<Flow> {
@@ -528,7 +556,7 @@ impl Running {
         {
             return Ok(Flow::Close);
         }
-        self.apply_held_keys(seconds);
+        self.apply_held_keys(seconds)?;
         if let Some(code) = scripted {
             self.held.remove(&code);
         }
@@ -654,6 +682,9 @@ impl Running {
                 self.frame.options.height
             ),
         ];
+        if let Some(which) = self.movables.get(self.moving) {
+            lines.push(format!("ARROWS MOVE {}", which.describe(&self.scene)).to_uppercase());
+        }
         if let Some(c) = self.technique.as_ref().and_then(|t| t.convergence()) {
             lines.push(format!("{} {:.1E}", c.measure, c.remaining).to_uppercase());
         }
@@ -796,7 +827,7 @@ mod tests {
     use super::*;
 
     /// Keys the viewer uses itself (a method's setting keys must be others).
-    const RESERVED_KEYS: &[char] = &['w', 'a', 's', 'd', 'q', 'e', 'm', 'i', 'o', 'p'];
+    const RESERVED_KEYS: &[char] = &['w', 'a', 's', 'd', 'q', 'e', 'm', 'i', 'o', 'p', 'l'];
 
     #[test]
     fn method_keys_are_free_and_map_to_keys() {

@@ -794,21 +794,38 @@ impl<'a> Recorder<'a> {
         self.end_scope(scope);
     }
 
-    /// Overwrite the start of a buffer with `data` from the command buffer (at most 64 KiB, a
-    /// multiple of 4 bytes), ordered with the passes around it like any transfer.
+    /// Overwrite the start of a buffer with `data` from the command buffer (a multiple of 4
+    /// bytes), ordered with the passes around it like any transfer.
     pub fn update_buffer(&mut self, name: &'static str, buffer: &Buffer, data: &[u8]) {
+        self.update_buffer_at(name, buffer, 0, data);
+    }
+
+    /// Write `data` into `buffer` from byte `offset` (both multiples of 4), in the command
+    /// stream (vkCmdUpdateBuffer, 65536 bytes at a time).
+    pub fn update_buffer_at(
+        &mut self,
+        name: &'static str,
+        buffer: &Buffer,
+        offset: u64,
+        data: &[u8],
+    ) {
         if data.is_empty() {
             return;
         }
         let scope = self.begin_scope(name);
         self.sync(&[(Resource::Buffer(buffer), Access::TransferWrite)]);
-        // SAFETY: the buffer is alive, has TRANSFER_DST and holds `data` (the caller sizes it).
-        unsafe {
-            self.gpu
-                .shared
-                .device
-                .cmd_update_buffer(self.cmd, buffer.raw, 0, data)
-        };
+        const MAX_UPDATE: usize = 65536;
+        for (k, chunk) in data.chunks(MAX_UPDATE).enumerate() {
+            let at = offset + (k * MAX_UPDATE) as u64;
+            // SAFETY: the buffer is alive and has TRANSFER_DST; the caller keeps `offset` and
+            // the data's length multiples of 4 and within the buffer.
+            unsafe {
+                self.gpu
+                    .shared
+                    .device
+                    .cmd_update_buffer(self.cmd, buffer.raw, at, chunk)
+            };
+        }
         self.end_scope(scope);
     }
 

@@ -85,6 +85,8 @@ pub struct Frame {
     lights: Vec<Light>,
     /// Light and shadow-view records to write into the scene buffers at the next frame.
     pending_lights: Option<(Vec<u8>, Vec<u8>)>,
+    /// Vertex records (byte offset, bytes) to write into the vertex buffer at the next frame.
+    pending_vertices: Vec<(u64, Vec<u8>)>,
     /// What changed since the last recorded frame (everything before the first).
     changes: Changes,
     frames_recorded: u64,
@@ -172,6 +174,7 @@ impl Frame {
             views: Vec::new(),
             lights: scene.lights.clone(),
             pending_lights: None,
+            pending_vertices: Vec::new(),
             changes: Changes {
                 lights: true,
                 camera: true,
@@ -228,6 +231,19 @@ impl Frame {
         self.changes.lights = true;
     }
 
+    /// Take the scene's vertices `range` as they are now (an emitter moved, see
+    /// [`crate::scene::movable`]); the next recorded frame writes them before anything reads
+    /// them. Call [`Frame::set_lights`] too: the area-light samples move with their emitter.
+    pub fn set_vertices(&mut self, scene: &Scene, range: std::ops::Range<u32>) {
+        let vertices: Vec<GpuVertex> = range
+            .clone()
+            .map(|i| GpuVertex::of(&scene.mesh, i as usize))
+            .collect();
+        let offset = u64::from(range.start) * std::mem::size_of::<GpuVertex>() as u64;
+        self.pending_vertices
+            .push((offset, bytemuck::cast_slice(&vertices).to_vec()));
+    }
+
     /// How this frame submits a method's parts (after resolving `SubmitPlan::Auto`).
     pub fn submit_plan(&self) -> SubmitPlan {
         if self.asynchronous {
@@ -246,6 +262,7 @@ impl Frame {
         epilogue: Option<&Epilogue>,
     ) -> GpuResult<()> {
         let pending = self.pending_lights.take();
+        let pending_vertices = std::mem::take(&mut self.pending_vertices);
         let changes = std::mem::take(&mut self.changes);
         let frame = &*self;
         let ctx = FrameContext {
@@ -271,6 +288,9 @@ impl Frame {
         };
         segments.head(&mut |rec| {
             rec.set_context(tag(Stage::Scene, None));
+            for (offset, vertices) in &pending_vertices {
+                rec.update_buffer_at("update vertices", &frame.scene.vertices, *offset, vertices);
+            }
             if let Some((lights, views)) = &pending {
                 rec.update_buffer("update lights", &frame.scene.lights, lights);
                 rec.update_buffer("update shadow views", &frame.scene.shadow_views, views);

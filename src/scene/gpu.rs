@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::camera::rh::{proj::vulkan, view::look_at_mat4};
 use glam::{Mat4, Vec3};
 
-use super::{Light, LightKind, Scene};
+use super::{Light, LightKind, Mesh, Scene};
 use crate::gpu::{Buffer, Gpu, GpuResult};
 use crate::shader_shared::{LIGHT_KIND_COSINE, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
 
@@ -16,6 +16,16 @@ pub struct GpuVertex {
     pub position: [f32; 4],
     /// xyz shading normal (zero: flat), w = texture coordinate v.
     pub normal: [f32; 4],
+}
+
+impl GpuVertex {
+    /// Vertex `i` of `mesh`.
+    pub fn of(mesh: &Mesh, i: usize) -> GpuVertex {
+        GpuVertex {
+            position: mesh.positions[i].extend(mesh.texcoords[i].x).to_array(),
+            normal: mesh.normals[i].extend(mesh.texcoords[i].y).to_array(),
+        }
+    }
 }
 
 #[repr(C)]
@@ -232,10 +242,7 @@ impl SceneBuffers {
         let (lights, views) = shadow_views(scene, lights, shadow_map_size);
         Ok(SceneBuffers {
             vertices: gpu.upload_storage_items("scene vertices", mesh.positions.len(), |i| {
-                GpuVertex {
-                    position: mesh.positions[i].extend(mesh.texcoords[i].x).to_array(),
-                    normal: mesh.normals[i].extend(mesh.texcoords[i].y).to_array(),
-                }
+                GpuVertex::of(mesh, i)
             })?,
             triangles: gpu.upload_storage_items("scene triangles", mesh.triangle_count(), |t| {
                 let [a, b, c] = mesh.indices[t];

@@ -13,6 +13,7 @@ pub mod gltf_scene;
 pub mod gpu;
 pub mod intersect;
 pub mod light;
+pub mod movable;
 pub mod obj;
 pub mod texture;
 
