@@ -8,7 +8,7 @@
 //! caught library panic) and either returns a scene that keeps every invariant the renderer
 //! relies on (tests/common/fuzzing.rs), or one error line.
 //!
-//! `VKGI_FUZZ_GLTF_CASES=N` runs N cases (default 2 000, a few seconds); `VKGI_FUZZ_SEED`
+//! `VKGI_FUZZ_GLTF_CASES=N` runs N cases (default 5 000, about 3 s); `VKGI_FUZZ_SEED`
 //! changes the seed; `VKGI_FUZZ_GLTF_CORPUS=DIR` keeps every case as DIR/case-N/ (a corpus for
 //! the command line, docs/reliability.md).
 
@@ -262,7 +262,7 @@ fn write(dir: &Path, case: &Case) -> String {
 #[test]
 fn mutated_gltf_files_load_or_fail_with_one_line_never_panic() {
     let seed = env_number("VKGI_FUZZ_SEED", 0x5EED_F022);
-    let cases = env_number("VKGI_FUZZ_GLTF_CASES", 2_000);
+    let cases = env_number("VKGI_FUZZ_GLTF_CASES", 5_000);
     let corpus = std::env::var_os("VKGI_FUZZ_GLTF_CORPUS").map(std::path::PathBuf::from);
     let scratch = std::env::temp_dir().join(format!("vkgi-fuzz-gltf-{}", std::process::id()));
     let mut tally = Tally::default();

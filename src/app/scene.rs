@@ -30,7 +30,7 @@ pub fn run(args: &SceneArgs) -> anyhow::Result<()> {
     let exported = export::export(&scene, &export::file_stem(&scene.name));
     write(dir, &exported)?;
     println!(
-        "{}: {} triangles, {} materials, {} textures, {} lights -> {}",
+        "{}: {} triangles, {} materials, {} textures, {} punctual light(s) -> {}",
         scene.name,
         scene.mesh.triangle_count(),
         scene.materials.len(),

@@ -76,11 +76,9 @@ pub fn load(path: &Path) -> Result<Scene, InputError> {
         skipped,
         ..
     } = reader;
-    for warning in &warnings {
-        log::warn!("{name}: {warning}");
-    }
+    let mut warnings: Vec<String> = warnings.into_iter().collect();
     if skipped > 0 {
-        log::warn!("{name}: skipped {skipped} zero-area triangle(s)");
+        warnings.push(format!("skipped {skipped} zero-area triangle(s)"));
     }
     if mesh.triangle_count() == 0 {
         return Err(InputError::new(format!(
@@ -94,13 +92,18 @@ pub fn load(path: &Path) -> Result<Scene, InputError> {
     let (min, max) = mesh.bounds();
     let emissive = materials.iter().any(|m| m.emission.max_element() > 0.0);
     let lights = if lights.is_empty() && !emissive {
-        log::warn!("{name}: no light; adding a point light above the scene");
+        warnings.push("no light; adding a point light above the scene".into());
         vec![super::framing_light(min, max)]
     } else {
         lights
     };
     let camera = camera.unwrap_or_else(|| Camera::framing(min, max));
-    Scene::new(scene_name, mesh, materials, lights, camera)
+    let scene = Scene::new(scene_name, mesh, materials, lights, camera)?;
+    // Warnings only for a scene that loads: a refused file gets its one error line alone.
+    for warning in &warnings {
+        log::warn!("{name}: {warning}");
+    }
+    Ok(scene)
 }
 
 /// One line for a gltf error (its validation errors are listed on one line already; the first
