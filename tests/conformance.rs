@@ -190,13 +190,7 @@ fn textured_albedo_reaches_every_pass_of_every_method() {
         let name = entry.map_or("direct light", |e| e.name);
         let a = render(&gpu, &textured, entry, false);
         let b = render(&gpu, &plain, entry, false);
-        let peak = b.iter().flatten().fold(0.0f32, |m, &v| m.max(v));
-        let worst = a
-            .iter()
-            .flatten()
-            .zip(b.iter().flatten())
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0f32, f32::max);
+        let (worst, peak) = common::worst_difference(&a, &b);
         assert!(
             worst <= 1e-4 * peak,
             "{name}: a uniform texture renders {worst} away from its plain albedo (peak {peak})"

@@ -170,13 +170,7 @@ fn a_textured_gltf_written_as_files_renders_the_same() {
         (trace(&original), trace(&read_back)),
     ];
     for (a, b) in &renders {
-        let peak = a.iter().flatten().fold(0.0f32, |m, &v| m.max(v));
-        let worst = a
-            .iter()
-            .flatten()
-            .zip(b.iter().flatten())
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0f32, f32::max);
+        let (worst, peak) = common::worst_difference(a, b);
         assert!(
             peak > 0.0 && worst <= 1e-3 * peak,
             "worst {worst} of peak {peak}"

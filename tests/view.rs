@@ -58,6 +58,16 @@ fn assert_success(output: &Output) {
     );
 }
 
+/// How many frames of a profile report (`--profile-json`) ran the pass called `name`.
+fn pass_runs(report: &serde_json::Value, name: &str) -> usize {
+    report["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == name)
+        .map_or(0, |p| p["per_frame_ns"].as_array().unwrap().len())
+}
+
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("vkgi-view-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -171,28 +181,37 @@ fn the_cave_opens_tiled_and_in_one_window_per_wall() {
     ]));
 }
 
+/// Run the viewer in `dir` for `frames` frames pressing `keys` (one per frame), with `extra`
+/// arguments; its profile report.
+fn view_with_keys(dir: &Path, extra: &[&str], frames: u32, keys: &str) -> serde_json::Value {
+    let profile = dir.join("profile.json");
+    let frames = frames.to_string();
+    let mut args = vec![
+        "view",
+        "--frames",
+        &frames,
+        "--keys",
+        keys,
+        "--profile-json",
+    ];
+    args.push(profile.to_str().unwrap());
+    args.extend_from_slice(extra);
+    assert_success(&vkgi_windowed_in(dir, &args));
+    serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap()
+}
+
 #[test]
 fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
     let dir = scratch("keys");
-    let profile = dir.join("profile.json");
     // Per frame (the method cycle is none, then the registry's order: ambient, ilpv, lpv):
     // lpv, none, ambient, ilpv, lattice +2, steps +1, λ +0.05, light right, indirect only,
     // direct only, screenshot, help.
-    let output = vkgi_windowed_in(
+    let report = view_with_keys(
         &dir,
-        &[
-            "view",
-            "--size",
-            "96x72",
-            "--frames",
-            "12",
-            "--keys",
-            "m,m,m,m,],.,=,right,i,o,p,f1",
-            "--profile-json",
-            profile.to_str().unwrap(),
-        ],
+        &["--size", "96x72"],
+        12,
+        "m,m,m,m,],.,=,right,i,o,p,f1",
     );
-    assert_success(&output);
     for file in [
         "vkgi-screenshot-1.png",
         "vkgi-screenshot-1.exr",
@@ -200,17 +219,8 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
     ] {
         assert!(dir.join(file).exists(), "{file} was saved");
     }
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap();
     assert_eq!(report["frames"], 12);
-    let runs = |name: &str| {
-        report["passes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|p| p["name"] == name)
-            .map_or(0, |p| p["per_frame_ns"].as_array().unwrap().len())
-    };
+    let runs = |name: &str| pass_runs(&report, name);
     // Injection runs with lpv in frame 0 and ilpv in frames 3-8: not with none (frame 1) or
     // ambient (frame 2), nor once "o" (direct only) is on.
     assert_eq!(runs("inject"), 7);
@@ -222,39 +232,25 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
 #[test]
 fn the_arrow_keys_move_an_emitter_and_the_method_is_rebuilt_when_they_let_go() {
     let dir = scratch("emitter");
-    let profile = dir.join("profile.json");
-    // cornell-area has no punctual light: the arrows move its ceiling light. Per frame: ilpv
-    // (two presses of m), the emitter right twice, then two frames without arrows (ilpv is
-    // made again around the moved emitter).
-    let output = vkgi_windowed_in(
+    // cornell-area has no punctual light: the arrows move its ceiling light. Per frame (with
+    // ilpv, the default method): the emitter right twice, then two frames without arrows (ilpv
+    // is made again around the moved emitter in the first of them).
+    let report = view_with_keys(
         &dir,
-        &[
-            "view",
-            "--scene",
-            "cornell-area",
-            "--size",
-            "64x48",
-            "--frames",
-            "6",
-            "--keys",
-            "m,m,right,right,f1,f1",
-            "--profile-json",
-            profile.to_str().unwrap(),
-        ],
+        &["--scene", "cornell-area", "--size", "64x48"],
+        4,
+        "right,right,f1,f1",
     );
-    assert_success(&output);
-    let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&profile).unwrap()).unwrap();
-    let runs = |name: &str| {
-        report["passes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|p| p["name"] == name)
-            .map_or(0, |p| p["per_frame_ns"].as_array().unwrap().len())
-    };
+    let runs = |name: &str| pass_runs(&report, name);
     assert_eq!(runs("update vertices"), 2, "the emitter moved twice");
     assert_eq!(runs("update lights"), 2, "its light samples followed");
+    let notes = report["notes"].as_array().unwrap();
+    assert!(
+        notes
+            .iter()
+            .any(|n| n == "frame 2: ilpv made again around the moved emitter"),
+        "{notes:?}"
+    );
 }
 
 #[test]

@@ -533,6 +533,12 @@ impl Running {
             if self.geometry_moved {
                 self.geometry_moved = false;
                 self.rebuild_technique()?;
+                if let Some(entry) = self.method {
+                    self.ring.profiler.add_note(format!(
+                        "frame {}: {} made again around the moved emitter",
+                        self.frames_shown, entry.name
+                    ));
+                }
             }
             return Ok(());
         }

@@ -243,6 +243,18 @@ pub fn indirect_only(width: u32, height: u32) -> FrameOptions {
     }
 }
 
+/// The largest per-channel difference between two images, and `b`'s brightest value.
+pub fn worst_difference(a: &[[f32; 3]], b: &[[f32; 3]]) -> (f32, f32) {
+    let peak = b.iter().flatten().fold(0.0f32, |m, &v| m.max(v));
+    let worst = a
+        .iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f32, f32::max);
+    (worst, peak)
+}
+
 pub fn mean(pixels: &[[f32; 3]]) -> f64 {
     pixels.iter().map(|p| f64::from(luminance(*p))).sum::<f64>() / pixels.len() as f64
 }
