@@ -465,6 +465,27 @@ fn run_ilpv_frames(
 }
 
 #[test]
+fn ilpv_blends_incrementally_in_a_scene_lit_by_an_area_light_alone() {
+    // The energy ratio of eq 3.4 counted punctual lights only: with an area light alone the
+    // energy was 0 and ILPV fell back to plain propagation every frame (found by the report
+    // giving identical images at λ 0.5 and 0.9 on cornell-area).
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell-area").unwrap();
+    let settings = LpvSettings {
+        incremental: 0.7,
+        rsm: 32,
+        ..ilpv(8)
+    };
+    let (lpv, _) = run_ilpv_frames(&gpu, &scene, settings, 2);
+    let (a, b) = lpv.blend_weights();
+    assert!(
+        (a - 0.7).abs() < 1e-6 && (b - 0.3).abs() < 1e-6,
+        "blend weights ({a}, {b})"
+    );
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
 fn ilpv_reaches_the_closed_form_steady_state() {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();

@@ -478,8 +478,9 @@ impl Lpv {
             frames: 0,
             frames_since_change: 0,
             previous_energy: 0.0,
+            // The light the RSM sees: punctual lights and the area-light samples.
             energy: scene
-                .lights
+                .raster_lights()
                 .iter()
                 .map(|l| f64::from(l.flux) * f64::from(l.color.element_sum()) / 3.0)
                 .sum(),
