@@ -1,44 +1,16 @@
 //! The command line on bad input: one clear line on stderr, exit code 2, no panic, nothing
 //! half-written. And on good input: files written whole, the profile printed.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::PathBuf;
+use std::process::Output;
 
-fn vkgi(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vkgi"))
-        .args(args)
-        .env("VKGI_VALIDATE", "1")
-        .env("RUST_BACKTRACE", "0")
-        .output()
-        .expect("the vkgi binary runs")
-}
+mod common;
+
+use common::cli::{assert_bad_input, vkgi, write};
 
 /// A fresh folder for one test's files.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("vkgi-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.to_string_lossy().into_owned()
-}
-
-/// Exit code 2, exactly one line on stderr, which mentions `needle`, and no panic.
-fn assert_bad_input(output: &Output, needle: &str) {
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "exit code; stderr: {stderr}");
-    assert!(!stderr.contains("panicked"), "panic: {stderr}");
-    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert_eq!(lines.len(), 1, "one line expected, got: {stderr}");
-    assert!(
-        lines[0].to_lowercase().contains(&needle.to_lowercase()),
-        "'{needle}' not in: {}",
-        lines[0]
-    );
+    common::cli::scratch("cli", name)
 }
 
 fn render_scene(scene: &str) -> Output {

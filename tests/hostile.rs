@@ -2,7 +2,7 @@
 //! after it), end to end through the binary: bad input gets one line and exit code 2, never a
 //! panic, a non-finite image or a silent black one; outputs go only to regular files.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
 
 use common::gltf_fixture::{glb_bytes, gltf_document};
@@ -10,43 +10,11 @@ use serde_json::json;
 
 mod common;
 
-fn vkgi(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vkgi"))
-        .args(args)
-        .env("VKGI_VALIDATE", "1")
-        .env("RUST_BACKTRACE", "1")
-        .output()
-        .expect("the vkgi binary runs")
-}
+use common::cli::{assert_bad_input, vkgi, write};
 
+/// A fresh folder for one test's files.
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("vkgi-hostile-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.to_string_lossy().into_owned()
-}
-
-/// Exit code 2, exactly one line on stderr mentioning `needle`, no panic or backtrace.
-fn assert_bad_input(output: &Output, needle: &str) {
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert_eq!(output.status.code(), Some(2), "exit code; stderr: {stderr}");
-    assert!(
-        !stderr.contains("panicked") && !stderr.contains("backtrace"),
-        "{stderr}"
-    );
-    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert_eq!(lines.len(), 1, "one line expected, got: {stderr}");
-    assert!(
-        lines[0].to_lowercase().contains(&needle.to_lowercase()),
-        "'{needle}' not in: {}",
-        lines[0]
-    );
+    common::cli::scratch("hostile", name)
 }
 
 const QUAD: &str = "mtllib m.mtl\nv -1 0 -1\nv 1 0 -1\nv 1 0 1\nv -1 0 1\nusemtl grey\nf 1 2 3 4\n";

@@ -125,11 +125,7 @@ impl Frame {
             .into());
         }
         let raster_lights = scene.raster_lights();
-        let shadow_layers = raster_lights
-            .iter()
-            .map(|l| l.shadow_view_count())
-            .sum::<u32>()
-            .max(1);
+        let shadow_layers = crate::scene::light::shadow_view_total(&raster_lights);
         check_layered_image(
             gpu,
             &format!("the shadow map of {} light(s)", raster_lights.len()),

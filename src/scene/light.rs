@@ -35,6 +35,16 @@ pub enum LightKind {
     Cosine { direction: Vec3 },
 }
 
+/// Shadow (and RSM) views all of `lights` need together; at least one, so a layered image
+/// for them is never empty.
+pub fn shadow_view_total(lights: &[Light]) -> u32 {
+    lights
+        .iter()
+        .map(Light::shadow_view_count)
+        .sum::<u32>()
+        .max(1)
+}
+
 /// A punctual light with total emitted flux `flux` watts, tinted by `color` per channel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light {

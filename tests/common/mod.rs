@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests: a validated GPU and one-frame renders.
 #![allow(dead_code)]
 
+pub mod cli;
 pub mod fuzzing;
 pub mod gltf_fixture;
 

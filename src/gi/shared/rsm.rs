@@ -54,11 +54,7 @@ impl Rsm {
             },
         )?;
         let lights = scene.raster_lights();
-        let layers = lights
-            .iter()
-            .map(|l| l.shadow_view_count())
-            .sum::<u32>()
-            .max(1);
+        let layers = crate::scene::light::shadow_view_total(&lights);
         // Position and flux are 16 bytes a texel, the normal 8.
         check_layered_image(
             gpu,
