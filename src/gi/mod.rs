@@ -51,6 +51,9 @@ pub struct FrameContext<'a> {
     pub views: &'a [View],
     /// The lights as they are this frame (as in `scene.lights`, on the CPU).
     pub lights: &'a [Light],
+    /// The lights the rasteriser draws, in the order of `scene.lights` on the GPU: `lights`,
+    /// then the area-light samples (see `Scene::raster_lights`).
+    pub raster_lights: &'a [Light],
     /// Frames this frame object recorded before this one.
     pub frame: u64,
     /// What changed since the previous frame (everything, on the first frame).
@@ -155,4 +158,5 @@ macro_rules! methods {
 methods! {
     ambient,
     lpv,
+    lightwave,
 }

@@ -83,6 +83,8 @@ pub struct Frame {
     pub views: Vec<View>,
     /// The lights as they are now (moved by [`Frame::set_lights`]).
     lights: Vec<Light>,
+    /// The lights the rasteriser draws (the scene's, then its area-light samples).
+    raster_lights: Vec<Light>,
     /// Light and shadow-view records to write into the scene buffers at the next frame.
     pending_lights: Option<(Vec<u8>, Vec<u8>)>,
     /// Vertex records (byte offset, bytes) to write into the vertex buffer at the next frame.
@@ -169,6 +171,7 @@ impl Frame {
                 .create_sampler(vk::Filter::NEAREST, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
             views: Vec::new(),
             lights: scene.lights.clone(),
+            raster_lights,
             pending_lights: None,
             pending_vertices: Vec::new(),
             changes: Changes {
@@ -213,9 +216,10 @@ impl Frame {
     /// writes them into the light buffers before anything reads them. The lights' kinds must
     /// be those the frame was made with.
     pub fn set_lights(&mut self, scene: &Scene) {
+        self.raster_lights = scene.raster_lights();
         let (lights, views) = crate::scene::gpu::shadow_views(
             scene,
-            &scene.raster_lights(),
+            &self.raster_lights,
             self.options.shadow_map_size,
         );
         self.scene.set_shadow_views(&views);
@@ -267,6 +271,7 @@ impl Frame {
             shadow_sampler: &frame.shadow_sampler,
             views: &frame.views,
             lights: &frame.lights,
+            raster_lights: &frame.raster_lights,
             frame: frame.frames_recorded,
             changes,
             indirect_only: frame.options.indirect_only,

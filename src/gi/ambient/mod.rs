@@ -16,14 +16,11 @@ use crate::gi::{FrameContext, GiMethod};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Recorder, Specialization,
 };
-use crate::reference::{Bounces, PathTracer, ReferenceSettings};
-use crate::scene::Scene;
+use crate::gi::shared::oracle::{self, IndirectOracle};
 use crate::scene::bvh::Bvh;
 use crate::shaders;
 use bindings as ids;
 
-/// Size of the path-traced image the fit uses when the caller gives no reference.
-const FIT_SIZE: (u32, u32) = (64, 48);
 /// Largest irradiance a user may give per channel.
 const MAX_IRRADIANCE: f32 = 1e30;
 
@@ -66,19 +63,16 @@ enum Source {
     Fit(Box<Fitter>),
 }
 
-/// What a refit needs: the scene (its lights replaced by the frame's), a path tracer and the
-/// albedo each pixel of its image sees.
+/// What a refit needs: the path-traced image of the scene's indirect light and the albedo each
+/// of its pixels sees.
 struct Fitter {
-    scene: Scene,
-    tracer: PathTracer,
-    settings: ReferenceSettings,
+    oracle: IndirectOracle,
     albedo: Vec<[f32; 3]>,
 }
 
 impl Fitter {
     fn fit(&mut self, gpu: &Gpu) -> anyhow::Result<Vec3> {
-        let images = self.tracer.render(gpu, &self.settings, |_, _| {})?;
-        Ok(fit::fit_irradiance(&self.albedo, &images.indirect))
+        Ok(fit::fit_irradiance(&self.albedo, &self.oracle.render(gpu)?))
     }
 }
 
@@ -117,19 +111,10 @@ impl Ambient {
             });
         }
         (setup.progress)("fitting the ambient term to a path-traced image", 0.0);
-        let (width, height) = FIT_SIZE;
+        let (width, height) = oracle::SIZE;
         let mut fitter = Fitter {
             albedo: fit::albedo_image(setup.scene, &bvh, width, height),
-            tracer: PathTracer::new(gpu, setup.scene, width, height)?,
-            scene: setup.scene.clone(),
-            settings: ReferenceSettings {
-                width,
-                height,
-                spp: settings.u32("ambient-spp")?,
-                bounces: Bounces::Limited(1),
-                seed: 1,
-                strategy: Default::default(),
-            },
+            oracle: IndirectOracle::new(gpu, setup.scene, settings.u32("ambient-spp")?)?,
         };
         let irradiance = fitter.fit(gpu)?;
         (setup.progress)("fitting the ambient term to a path-traced image", 1.0);
@@ -173,8 +158,7 @@ impl GiMethod for Ambient {
         if ctx.frame == 0 || !ctx.changes.lights {
             return Ok(());
         }
-        fitter.scene.lights = ctx.lights.to_vec();
-        fitter.tracer.set_lights(rec.gpu(), &fitter.scene)?;
+        fitter.oracle.set_lights(rec.gpu(), ctx.lights)?;
         self.irradiance = fitter
             .fit(rec.gpu())
             .map_err(|e| GpuError::Setup(format!("refitting the ambient term: {e:#}")))?;
@@ -203,10 +187,7 @@ impl GiMethod for Ambient {
     fn describe(&self) -> Vec<String> {
         let source = match &self.source {
             Source::Given => "given or fitted to the caller's reference".to_string(),
-            Source::Fit(f) => format!(
-                "fitted to a {}x{} path-traced image at {} spp, one bounce",
-                f.settings.width, f.settings.height, f.settings.spp
-            ),
+            Source::Fit(f) => format!("fitted to {}", f.oracle.describe()),
         };
         vec![format!(
             "ambient: irradiance E = ({:.6}, {:.6}, {:.6}) W/m², {source}",

@@ -1,5 +1,7 @@
-//! What several GI methods use: spherical harmonics, reflective shadow maps.
+//! What several GI methods use: spherical harmonics, reflective shadow maps, the path-traced
+//! image scale-free methods fit themselves to.
 
 pub mod bindings;
+pub mod oracle;
 pub mod rsm;
 pub mod sh;

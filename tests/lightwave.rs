@@ -1,0 +1,205 @@
+//! LightWave (seed 002) on lavapipe with validation on: the GPU's rig against the f64 rig, the
+//! GPU's gather against the f64 gather, and the indirect-shadow modes against each other.
+
+mod common;
+
+use glam::{DVec3, Vec3};
+use vkgi::gi::GiMethod;
+use vkgi::gi::lightwave::cpu::{gather, rig_axis};
+use vkgi::gi::lightwave::{LightWave, LightWaveSettings, ShadowMode};
+use vkgi::gi::registry::{self, Setup};
+use vkgi::render::runner::run_frames;
+use vkgi::render::{Frame, FrameOptions};
+use vkgi::scene::Scene;
+
+/// Settings from the command line's words.
+fn settings(scene: &Scene, overrides: &[(&str, &str)]) -> LightWaveSettings {
+    let entry = registry::find("lightwave").expect("registered");
+    let overrides: Vec<(String, String)> = overrides
+        .iter()
+        .map(|(n, v)| (n.to_string(), v.to_string()))
+        .collect();
+    let parsed = entry.settings(&overrides).expect("settings");
+    LightWaveSettings::parse(&parsed, scene).expect("lightwave settings")
+}
+
+fn indirect(width: u32, height: u32) -> FrameOptions {
+    FrameOptions {
+        shadow_map_size: 256,
+        ..common::indirect_only(width, height)
+    }
+}
+
+#[test]
+fn the_gpu_rig_is_the_f64_rig_and_follows_its_light() {
+    let gpu = common::gpu();
+    let mut scene = common::plane_under_point_light(0.5, 10.0);
+    let s = settings(
+        &scene,
+        &[("lightwave-gain", "1"), ("lightwave-angle", "10")],
+    );
+    let rig = s.rig;
+    let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
+    let mut frame = Frame::new(&gpu, &scene, indirect(16, 12)).expect("frame");
+    for moved in [false, true] {
+        if moved {
+            scene.lights[0].position += Vec3::new(0.5, -0.25, 1.0);
+            frame.set_lights(&scene);
+        }
+        drop(run_frames(&gpu, &mut frame, Some(&mut method), 0, 1).expect("frame"));
+        let gpu_vpls = method.read_vpls(&gpu).expect("readback");
+        let light = &scene.lights[0];
+        let cpu_vpls = rig.vpls(light.position.as_dvec3(), rig_axis(light));
+        assert_eq!(cpu_vpls.len(), 1625);
+        for (j, (g, c)) in gpu_vpls.iter().zip(&cpu_vpls).enumerate() {
+            let position = DVec3::new(g[0].into(), g[1].into(), g[2].into());
+            let direction = DVec3::new(g[4].into(), g[5].into(), g[6].into());
+            assert!(
+                (position - c.position).length() < 1e-5,
+                "VPL {j}: {position} {}",
+                c.position
+            );
+            assert!((direction - c.direction).length() < 1e-6, "VPL {j}");
+            assert!((f64::from(g[3]) - c.weight).abs() < 1e-6, "VPL {j}");
+            assert_eq!(g[7], 0.0, "light index");
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn the_gpu_gather_equals_the_f64_gather_and_no_maps_means_no_shadow() {
+    let gpu = common::gpu();
+    // A point light of intensity 1 W/sr over a plane of albedo 0.5, gain 1: radiance is
+    // 0.5/π times the gather.
+    let scene = common::plane_under_point_light(0.5, 4.0 * std::f32::consts::PI);
+    let s = settings(
+        &scene,
+        &[("lightwave-gain", "1"), ("lightwave-shadow-maps", "0")],
+    );
+    assert_eq!(s.shadows, ShadowMode::None);
+    let rig = s.rig;
+    let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
+    let (width, height) = (24, 18);
+    let mut frame = Frame::new(&gpu, &scene, indirect(width, height)).expect("frame");
+    drop(run_frames(&gpu, &mut frame, Some(&mut method), 0, 1).expect("frame"));
+    let image = frame.read_hdr(&gpu).expect("readback");
+    let positions = frame.read_positions(&gpu).expect("positions");
+    let light = &scene.lights[0];
+    let vpls = rig.vpls(light.position.as_dvec3(), rig_axis(light));
+    let (mut compared, mut lit) = (0, 0);
+    for (pixel, p) in image.iter().zip(&positions) {
+        if p[3] == 0.0 {
+            continue;
+        }
+        let point = DVec3::new(p[0].into(), p[1].into(), p[2].into());
+        let want = 0.5 / std::f64::consts::PI * gather(&vpls, point, DVec3::Y);
+        lit += u32::from(want > 1e-3);
+        let got = f64::from(pixel[0]);
+        assert!((got - want).abs() <= 1e-4 * want, "{got} vs {want}");
+        compared += 1;
+    }
+    assert!(compared > width * height / 2, "{compared} pixels");
+    assert!(
+        lit > compared / 2,
+        "the rig lights the plane: {lit} of {compared} pixels"
+    );
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// An indirect-only image of `lightwave-boxes` with `s`.
+fn boxes_image(gpu: &vkgi::gpu::Gpu, scene: &Scene, s: LightWaveSettings) -> Vec<[f32; 3]> {
+    let mut method = LightWave::with(&Setup::new(gpu, scene), s).expect("lightwave");
+    assert!(method.describe().len() >= 3);
+    common::render_with(gpu, scene, &mut method, indirect(40, 30), 1)
+}
+
+#[test]
+fn integrated_shadows_at_one_step_are_the_mean_of_their_five_maps() {
+    let gpu = common::gpu();
+    let scene = Scene::load("lightwave-boxes").expect("scene");
+    let base = [("lightwave-gain", "0.05"), ("lightwave-shadow-ratio", "1")];
+    let one_step = settings(
+        &scene,
+        &[
+            base[0],
+            base[1],
+            ("lightwave-shadows", "integrated"),
+            ("lightwave-steps", "1"),
+        ],
+    );
+    // Accurate mode over the same five VPLs: the plain mean of the same maps.
+    let mut mean = settings(&scene, &[base[0], base[1], ("lightwave-shadow-maps", "5")]);
+    mean.shadow_set = one_step.shadow_set.clone();
+    assert_eq!(mean.shadows, ShadowMode::Accurate);
+    let interpolated = settings(
+        &scene,
+        &[
+            base[0],
+            base[1],
+            ("lightwave-shadows", "integrated"),
+            ("lightwave-steps", "4"),
+        ],
+    );
+    let unshadowed = settings(&scene, &[base[0], ("lightwave-shadow-maps", "0")]);
+    let a = boxes_image(&gpu, &scene, one_step);
+    let b = boxes_image(&gpu, &scene, mean);
+    let (worst, peak) = common::worst_difference(&a, &b);
+    assert!(worst <= 1e-5 * peak, "worst {worst} of peak {peak}");
+    // The shadows are real: they darken the image, and interpolation changes it.
+    let c = boxes_image(&gpu, &scene, interpolated);
+    let d = boxes_image(&gpu, &scene, unshadowed);
+    let (mean_a, mean_c, mean_d) = (common::mean(&a), common::mean(&c), common::mean(&d));
+    assert!(
+        mean_a < 0.995 * mean_d,
+        "shadowed {mean_a} vs unshadowed {mean_d}"
+    );
+    assert!(
+        common::worst_difference(&a, &c).0 > 1e-3 * peak,
+        "{mean_a} {mean_c}"
+    );
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn the_composites_add_what_the_thesis_adds_to_direct_light() {
+    let gpu = common::gpu();
+    let scene = Scene::load("lightwave-boxes").expect("scene");
+    let options = || FrameOptions {
+        width: 40,
+        height: 30,
+        shadow_map_size: 256,
+        ..FrameOptions::default()
+    };
+    let render = |overrides: &[(&str, &str)]| {
+        let s = settings(&scene, overrides);
+        let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
+        common::render_with(&gpu, &scene, &mut method, options(), 1)
+    };
+    let direct = {
+        let mut frame = Frame::new(&gpu, &scene, options()).expect("frame");
+        drop(run_frames(&gpu, &mut frame, None, 0, 1).expect("frame"));
+        frame.read_hdr(&gpu).expect("readback")
+    };
+    let direct_only = render(&[("lightwave-composite", "direct-only")]);
+    let (worst, peak) = common::worst_difference(&direct_only, &direct);
+    assert_eq!(worst, 0.0, "direct-only adds nothing (peak {peak})");
+    // Fake indirect (eq 5.2) with m = 1: 0.5 shadowed + 0.5 unshadowed direct, which is at
+    // least the shadowed direct light, and more where shadows fall.
+    let fake = render(&[("lightwave-composite", "fake"), ("lightwave-fake", "1")]);
+    let brighter = fake
+        .iter()
+        .zip(&direct)
+        .filter(|(f, d)| f[0] > d[0] * 1.01 + 1e-6)
+        .count();
+    assert!(
+        fake.iter()
+            .zip(&direct)
+            .all(|(f, d)| f[0] >= d[0] - 1e-5 * peak)
+    );
+    assert!(brighter > 0, "the shadows are half lifted somewhere");
+    // eq 4.9 adds indirect light on top of the direct light.
+    let eq49 = render(&[("lightwave-gain", "0.05")]);
+    assert!(common::mean(&eq49) > common::mean(&direct) * 1.01);
+    common::assert_no_validation_errors(&gpu);
+}
