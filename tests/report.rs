@@ -129,6 +129,8 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
         "1,2",
         "--incremental",
         "0.5",
+        "--lightwave-shadow-maps",
+        "0",
         "--frames",
         "2",
     ];
@@ -138,8 +140,8 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
     let rows = report["rows"].as_array().unwrap();
     assert_eq!(
         rows.len(),
-        5,
-        "the ambient baseline, lpv and ilpv at 1 and 2 steps"
+        6,
+        "the ambient baseline, lpv and ilpv at 1 and 2 steps, lightwave"
     );
     for r in rows {
         for part in ["indirect", "full"] {
