@@ -290,14 +290,22 @@ impl LightWave {
             &format!("LightWave's {} VPLs", light_count * s.rig.count()),
             vpl_bytes,
         )?;
-        let bvh = Bvh::build(&scene.mesh);
+        // The BVH only serves the fit: a given gain skips building it.
         let (gain, gain_source) = match (s.gain, setup.reference) {
             (Some(g), _) => (g, GainSource::Fixed("given")),
             (None, Some(reference)) => (
-                cpu::fit_gain(scene, &bvh, &lights, &s.rig, &s.shadow_set, &reference.indirect),
+                cpu::fit_gain(
+                    scene,
+                    &Bvh::build(&scene.mesh),
+                    &lights,
+                    &s.rig,
+                    &s.shadow_set,
+                    &reference.indirect,
+                ),
                 GainSource::Fixed("fitted to the caller's reference"),
             ),
             (None, None) => {
+                let bvh = Bvh::build(&scene.mesh);
                 let what = "fitting LightWave's gain to a path-traced image";
                 (setup.progress)(what, 0.0);
                 let mut oracle = IndirectOracle::new(gpu, scene, s.fit_spp)?;
