@@ -276,7 +276,7 @@ fn reference_writes_its_images_and_settings_and_reuses_them() {
         String::from_utf8_lossy(&second.stderr).contains("reusing"),
         "{second:?}"
     );
-    // compare: an image against itself scores zero everywhere.
+    // compare: an image against itself scores zero everywhere (and 100% similar).
     let same = vkgi(&["compare", out.to_str().unwrap(), out.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&same.stdout);
     assert!(same.status.success());
@@ -285,6 +285,7 @@ fn reference_writes_its_images_and_settings_and_reuses_them() {
         "relMSE 0.000000",
         "MAE 0.000000",
         "FLIP 0.000000",
+        "similarity 100.000%",
     ] {
         assert!(stdout.contains(metric), "{stdout}");
     }

@@ -75,9 +75,14 @@ fn the_gpu_gather_equals_the_f64_gather_and_no_maps_means_no_shadow() {
     let scene = common::plane_under_point_light(0.5, 4.0 * std::f32::consts::PI);
     let s = settings(
         &scene,
-        &[("lightwave-gain", "1"), ("lightwave-shadow-maps", "0")],
+        &[
+            ("lightwave-gain", "1"),
+            ("lightwave-shadow-maps", "0"),
+            ("lightwave-gather", "pixel"),
+        ],
     );
     assert_eq!(s.shadows, ShadowMode::None);
+    assert!(!s.per_vertex);
     let rig = s.rig;
     let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
     let (width, height) = (24, 18);
@@ -103,6 +108,93 @@ fn the_gpu_gather_equals_the_f64_gather_and_no_maps_means_no_shadow() {
     assert!(
         lit > compared / 2,
         "the rig lights the plane: {lit} of {compared} pixels"
+    );
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// The weights of `p` in triangle (a, b, c), or None when it lies outside (beyond `slack`).
+fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3], slack: f64) -> Option<[f64; 3]> {
+    let (e1, e2, d) = (b - a, c - a, p - a);
+    let normal = e1.cross(e2);
+    let area = normal.length_squared();
+    let v = d.cross(e2).dot(normal) / area;
+    let w = e1.cross(d).dot(normal) / area;
+    let weights = [1.0 - v - w, v, w];
+    weights.iter().all(|&x| x >= -slack).then_some(weights)
+}
+
+#[test]
+fn the_vertex_gather_is_the_f64_gather_at_every_vertex_interpolated_across_triangles() {
+    let gpu = common::gpu();
+    let scene = common::plane_under_point_light(0.5, 4.0 * std::f32::consts::PI);
+    let s = settings(
+        &scene,
+        &[
+            ("lightwave-gain", "1"),
+            ("lightwave-shadow-maps", "0"),
+            ("lightwave-gather", "vertex"),
+        ],
+    );
+    assert!(s.per_vertex);
+    let rig = s.rig;
+    let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
+    let (width, height) = (24, 18);
+    let mut frame = Frame::new(&gpu, &scene, indirect(width, height)).expect("frame");
+    drop(run_frames(&gpu, &mut frame, Some(&mut method), 0, 1).expect("frame"));
+    let light = &scene.lights[0];
+    let vpls = rig.vpls(light.position.as_dvec3(), rig_axis(light));
+    // Per vertex, both sides: the f64 gather.
+    let values = method
+        .read_vertex_values(&gpu)
+        .expect("readback")
+        .expect("per vertex");
+    let mesh = &scene.mesh;
+    assert_eq!(values.len(), mesh.positions.len());
+    let mut back_lit = false;
+    for (v, got) in values.iter().enumerate() {
+        let p = mesh.positions[v].as_dvec3();
+        for (side, normal) in [(0, DVec3::Y), (1, DVec3::NEG_Y)] {
+            let want = gather(&vpls, p, normal);
+            let got = f64::from(got[side]);
+            assert!(
+                (got - want).abs() <= 1e-4 * want + 1e-7,
+                "vertex {v} side {side}: {got} vs {want}"
+            );
+            back_lit |= side == 1 && want > 1e-3;
+        }
+    }
+    assert!(back_lit, "some VPLs light the plane's underside too");
+    // Per pixel: the front values, interpolated across the triangle the pixel lies in.
+    let image = frame.read_hdr(&gpu).expect("readback");
+    let positions = frame.read_positions(&gpu).expect("positions");
+    let (mut compared, mut differs_from_pixel_gather) = (0, 0);
+    for (pixel, p) in image.iter().zip(&positions) {
+        if p[3] == 0.0 {
+            continue;
+        }
+        let point = DVec3::new(p[0].into(), p[1].into(), p[2].into());
+        let (corners, weights) = mesh
+            .indices
+            .iter()
+            .find_map(|tri| {
+                let corners = tri.map(|i| mesh.positions[i as usize].as_dvec3());
+                barycentric(point, corners, 1e-5).map(|w| (corners, w))
+            })
+            .expect("the pixel lies in a triangle");
+        let interpolated: f64 = (0..3)
+            .map(|k| weights[k] * gather(&vpls, corners[k], DVec3::Y))
+            .sum();
+        let want = 0.5 / std::f64::consts::PI * interpolated;
+        let got = f64::from(pixel[0]);
+        assert!((got - want).abs() <= 1e-3 * want + 1e-6, "{got} vs {want}");
+        let per_pixel = 0.5 / std::f64::consts::PI * gather(&vpls, point, DVec3::Y);
+        differs_from_pixel_gather += u32::from((per_pixel - want).abs() > 1e-2 * want);
+        compared += 1;
+    }
+    assert!(compared > width * height / 2, "{compared} pixels");
+    assert!(
+        differs_from_pixel_gather > 0,
+        "two triangles cannot hold the rig's light exactly: the tessellation shows"
     );
     common::assert_no_validation_errors(&gpu);
 }

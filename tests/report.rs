@@ -143,12 +143,23 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
         6,
         "the ambient baseline, lpv and ilpv at 1 and 2 steps, lightwave"
     );
+    let mut methods_seen = Vec::new();
     for r in rows {
         for part in ["indirect", "full"] {
             for metric in ["rmse", "rel_mse", "flip"] {
                 let v = r[part][metric].as_f64().unwrap();
                 assert!(v.is_finite() && v >= 0.0, "{part} {metric} = {v}");
             }
+            let similarity = r[part]["similarity"].as_f64().unwrap();
+            assert!(0.0 < similarity && similarity <= 1.0, "{part} {similarity}");
+        }
+        // The thesis's similarity against the method's first row: 1 for that row itself.
+        let to_first = r["similarity_vs_first"].as_f64().unwrap();
+        if methods_seen.contains(&r["method"]) {
+            assert!(0.0 < to_first && to_first <= 1.0, "{r}");
+        } else {
+            assert_eq!(to_first, 1.0, "{r}");
+            methods_seen.push(r["method"].clone());
         }
         assert!(r["ms_per_frame"].as_f64().unwrap() > 0.0);
         let ratio = r["rel_mse_vs_ambient"].as_f64().unwrap();

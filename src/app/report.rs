@@ -66,6 +66,9 @@ pub struct ReportRow {
     pub full: Metrics,
     /// Indirect relMSE over the ambient baseline's (below 1 beats it).
     pub rel_mse_vs_ambient: Option<f64>,
+    /// Seed 002's similarity of the full image against the same method's first row (the
+    /// LightWave thesis's tables compare every setting with its default, not with the truth).
+    pub similarity_vs_first: f64,
     /// The full image, tone-mapped (relative to the report folder).
     pub image: String,
 }
@@ -310,6 +313,7 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
 
     let bar = super::progress::counting("report", "configurations");
     let mut rows = Vec::new();
+    let mut first_images: Vec<(&str, HdrImage)> = Vec::new();
     for (i, (entry, swept, settings)) in plan.iter().enumerate() {
         let frames = config
             .frames
@@ -318,6 +322,14 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
         let full = add(&direct, &run.indirect);
         let image = image_name(entry.name, swept);
         write_png(&config.out_dir.join(&image), &tonemapped(&full)?)?;
+        if !first_images.iter().any(|(m, _)| *m == entry.name) {
+            first_images.push((entry.name, full.clone()));
+        }
+        let first = &first_images
+            .iter()
+            .find(|(m, _)| *m == entry.name)
+            .expect("kept")
+            .1;
         rows.push(ReportRow {
             method: entry.name,
             settings: swept.clone(),
@@ -327,6 +339,7 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
             indirect: metrics::compare(&run.indirect, &truth.indirect, None)?,
             full: metrics::compare(&full, &truth_full, None)?,
             rel_mse_vs_ambient: None,
+            similarity_vs_first: metrics::similarity(&full, first, None)?,
             image,
         });
         super::progress::update(&bar, i as u32 + 1, plan.len() as u32);
@@ -395,9 +408,12 @@ fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         out,
-        "| method | settings | frames | ms/frame | core ns/unit | indirect RMSE | indirect relMSE | ÷ {BASELINE} | indirect FLIP | full RMSE | full relMSE | full FLIP | image |"
+        "| method | settings | frames | ms/frame | core ns/unit | indirect RMSE | indirect relMSE | ÷ {BASELINE} | indirect FLIP | full RMSE | full relMSE | full FLIP | full % similar | % similar to first | image |"
     );
-    let _ = writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(
+        out,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
     for r in &report.rows {
         let settings = if r.settings.is_empty() {
             "defaults".to_string()
@@ -416,7 +432,7 @@ fn markdown(report: &Report) -> String {
             .map_or("-".to_string(), |v| format!("{v:.3}"));
         let _ = writeln!(
             out,
-            "| {} | {settings} | {} | {:.2} | {core} | {:.5} | {:.5} | {ratio} | {:.4} | {:.5} | {:.5} | {:.4} | [png]({}) |",
+            "| {} | {settings} | {} | {:.2} | {core} | {:.5} | {:.5} | {ratio} | {:.4} | {:.5} | {:.5} | {:.4} | {:.3} | {:.3} | [png]({}) |",
             r.method,
             r.frames,
             r.ms_per_frame,
@@ -426,6 +442,8 @@ fn markdown(report: &Report) -> String {
             r.full.rmse,
             r.full.rel_mse,
             r.full.flip,
+            100.0 * r.full.similarity,
+            100.0 * r.similarity_vs_first,
             r.image
         );
     }

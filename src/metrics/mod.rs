@@ -1,8 +1,10 @@
 //! Error metrics between a test image and a reference, on linear HDR images of equal size:
 //! RMSE, relative MSE `(a-b)²/(b²+0.01)`, MAE, and FLIP (NVIDIA's perceptual metric, computed
 //! by the official implementation through the `nv-flip` crate on both images tone-mapped the
-//! way vkgi's PNGs are: Reinhard L/(1+L) and sRGB). An optional mask restricts every metric to
-//! the pixels a method models.
+//! way vkgi's PNGs are: Reinhard L/(1+L) and sRGB). Beside them, seed 002's "% similar" (the
+//! LightWave thesis's Algorithm 1 as its script computes it, spec 002 §5): the mean over every
+//! 8-bit RGB value of (smaller + 1)/(larger + 1), on the same tone-mapped bytes. An optional
+//! mask restricts every metric to the pixels a method models.
 
 pub mod plot;
 
@@ -21,6 +23,8 @@ pub struct Metrics {
     pub mae: f64,
     /// Mean FLIP error over the counted pixels, in [0, 1].
     pub flip: f64,
+    /// Seed 002's similarity in [0, 1] (1: the same bytes); the thesis prints it × 100.
+    pub similarity: f64,
     /// Pixels counted (all, or those inside the mask).
     pub pixels: usize,
 }
@@ -28,8 +32,13 @@ pub struct Metrics {
 impl Metrics {
     pub fn describe(&self) -> String {
         format!(
-            "RMSE {:.6}\nrelMSE {:.6}\nMAE {:.6}\nFLIP {:.6}\npixels {}\n",
-            self.rmse, self.rel_mse, self.mae, self.flip, self.pixels
+            "RMSE {:.6}\nrelMSE {:.6}\nMAE {:.6}\nFLIP {:.6}\nsimilarity {:.3}%\npixels {}\n",
+            self.rmse,
+            self.rel_mse,
+            self.mae,
+            self.flip,
+            100.0 * self.similarity,
+            self.pixels
         )
     }
 }
@@ -132,8 +141,34 @@ pub fn compare(
         rel_mse: rel / values,
         mae: ae / values,
         flip: flip_sum / pixels as f64,
+        similarity: similarity(test, reference, mask)?,
         pixels,
     })
+}
+
+/// Seed 002's similarity of `test` to `reference` over the pixels `mask` selects: the mean of
+/// `byte_similarity` over their tone-mapped RGB bytes.
+pub fn similarity(
+    test: &HdrImage,
+    reference: &HdrImage,
+    mask: Option<&[bool]>,
+) -> Result<f64, InputError> {
+    check(test, reference, mask)?;
+    let (a, b) = (tonemap_srgb8(test), tonemap_srgb8(reference));
+    let (mut sum, mut values) = (0.0f64, 0usize);
+    for (i, (a, b)) in a.chunks_exact(3).zip(b.chunks_exact(3)).enumerate() {
+        if mask.is_none_or(|m| m[i]) {
+            sum += (0..3).map(|c| byte_similarity(a[c], b[c])).sum::<f64>();
+            values += 3;
+        }
+    }
+    Ok(sum / values as f64)
+}
+
+/// Seed 002's per-value similarity: (smaller + 1)/(larger + 1), so 200 against 100 is about
+/// 50% similar (the thesis's worked example; its printed pseudo-code has the ratio inverted).
+fn byte_similarity(a: u8, b: u8) -> f64 {
+    (f64::from(a.min(b)) + 1.0) / (f64::from(a.max(b)) + 1.0)
 }
 
 #[cfg(test)]
@@ -161,6 +196,15 @@ mod tests {
         assert!((m.mae - 2.0 / 6.0).abs() < 1e-12);
         assert!((m.rel_mse - (4.0 / 1.01) / 6.0).abs() < 1e-12);
         assert_eq!(m.pixels, 2);
+        // Tone-mapped, 1.0 and 3.0 are bytes 188 and 225: one value of six is 189/226 similar.
+        assert_eq!(tonemap_srgb8(&test)[3..6], [225, 188, 188]);
+        assert!((m.similarity - (5.0 + 189.0 / 226.0) / 6.0).abs() < 1e-12);
+        assert_eq!(
+            compare(&reference, &reference, None).unwrap().similarity,
+            1.0
+        );
+        assert!((byte_similarity(200, 100) - 101.0 / 201.0).abs() < 1e-15);
+        assert_eq!(byte_similarity(0, 255), 1.0 / 256.0);
         let only_first = compare(&test, &reference, Some(&[true, false])).unwrap();
         assert_eq!(
             (only_first.rmse, only_first.mae, only_first.pixels),

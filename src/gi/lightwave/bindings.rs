@@ -16,6 +16,18 @@ crate::shared_constants! {
     GATHER_VPL_SHADOW_MAP: u32 = 7;
     GATHER_VPL_SHADOW_VIEWS: u32 = 8;
     GATHER_HDR: u32 = 9;
+    // the per-vertex gather's interpolation only
+    GATHER_VERTICES: u32 = 10;
+    GATHER_TRIANGLES: u32 = 11;
+    GATHER_VERTEX_NORMALS: u32 = 12;
+    GATHER_VERTEX_VALUES: u32 = 13;
+    GATHER_TRIANGLE_IDS: u32 = 14;
+
+    // ---- the per-vertex gather ----
+    VERTEX_GATHER_VERTICES: u32 = 0;
+    VERTEX_GATHER_NORMALS: u32 = 1;
+    VERTEX_GATHER_VPLS: u32 = 2;
+    VERTEX_GATHER_OUT: u32 = 3;
 
     // ---- composites (GATHER push constant) ----
     COMPOSITE_EQ_4_9: u32 = 0;

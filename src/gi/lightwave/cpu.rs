@@ -36,6 +36,31 @@ pub fn gather(vpls: &[Vpl], point: DVec3, normal: DVec3) -> f64 {
     sum / vpls.len() as f64
 }
 
+/// The normal the per-vertex gather uses at each vertex of `mesh`: its shading normal, or where
+/// it has none the normalised sum of its triangles' area-weighted face normals (+Y if they
+/// cancel).
+pub fn gather_normals(mesh: &crate::scene::Mesh) -> Vec<Vec3> {
+    let mut faces = vec![Vec3::ZERO; mesh.positions.len()];
+    for corners in &mesh.indices {
+        let [a, b, c] = corners.map(|i| mesh.positions[i as usize]);
+        let area_normal = (b - a).cross(c - a);
+        for i in corners {
+            faces[*i as usize] += area_normal;
+        }
+    }
+    mesh.normals
+        .iter()
+        .zip(faces)
+        .map(|(&shading, face)| {
+            if shading != Vec3::ZERO {
+                shading
+            } else {
+                face.try_normalize().unwrap_or(Vec3::Y)
+            }
+        })
+        .collect()
+}
+
 /// A light's axis as the rig uses it: a spot's or an area sample's, straight down for a point
 /// light (the thesis's light looks down; src/scene/gpu.rs gives point lights the same axis).
 pub fn rig_axis(light: &Light) -> DVec3 {

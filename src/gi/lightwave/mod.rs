@@ -1,20 +1,22 @@
 //! `lightwave`, seed 002 (Robertson 2012, spec 002): a fixed rig of thousands of VPLs on
-//! shells around each light, moving rigidly with it, gathered per pixel with the thesis's
-//! widened 240° lobe and no distance falloff, times one indirect-visibility factor per light
-//! from the shadow maps of a few of its VPLs ("accurate": K maps; "integrated": 5 maps and
-//! taps interpolated between every pair). No colour bleeding (the VPLs carry no colour) and no
-//! inter-reflection: one term of the Neumann series, as the thesis says.
+//! shells around each light, moving rigidly with it, gathered with the thesis's widened 240°
+//! lobe and no distance falloff, times one indirect-visibility factor per light from the shadow
+//! maps of a few of its VPLs ("accurate": K maps; "integrated": 5 maps and taps interpolated
+//! between every pair). No colour bleeding (the VPLs carry no colour) and no inter-reflection:
+//! one term of the Neumann series, as the thesis says.
 //!
-//! vkgi's departures (docs/lightwave.md): the gather runs per pixel (not per vertex); the
-//! specular part of eq 4.5 is left out (vkgi's surfaces are Lambertian, as the path tracer's);
-//! the thesis's indirect term has no physical unit, so it is scaled by each light's peak
-//! intensity and one gain G (1/m²), fitted by least squares to a path-traced image (like the
-//! ambient oracle) unless given.
+//! vkgi's departures (docs/lightwave.md): the gather runs per vertex as the thesis's, or per
+//! pixel (`--lightwave-gather pixel`: free of the tessellation, but measured further from the
+//! path tracer on both test scenes); the specular part of eq 4.5 is left out (vkgi's surfaces
+//! are Lambertian, as the path tracer's); the thesis's indirect term has no physical unit, so it
+//! is scaled by each light's peak intensity and one gain G (1/m²), fitted by least squares to a
+//! path-traced image (like the ambient oracle, with the per-pixel gather) unless given.
 
 pub mod bindings;
 pub mod cpu;
 pub mod rig;
 pub mod shadows;
+pub mod vertex;
 
 use crate::error::InputError;
 use crate::gi::registry::{MethodEntry, Setup};
@@ -31,6 +33,7 @@ use crate::shaders;
 use bindings as ids;
 use rig::Rig;
 use shadows::VplShadows;
+use vertex::VertexGather;
 
 const SETTINGS: &[Setting] = &[
     Setting::new(
@@ -53,6 +56,12 @@ const SETTINGS: &[Setting] = &[
         Kind::Text,
         "fit",
         "maxDistance, the radius the shells converge to (scene units), or 'fit': half the scene's largest extent",
+    ),
+    Setting::new(
+        "lightwave-gather",
+        Kind::Choice(&["vertex", "pixel"]),
+        "vertex",
+        "Where the gather runs: at every vertex, interpolated across triangles (the thesis's; measured closer to the path tracer, docs/lightwave.md) or at every pixel (free of the mesh's tessellation)",
     ),
     Setting::new(
         "lightwave-shadows",
@@ -110,7 +119,7 @@ const SETTINGS: &[Setting] = &[
 
 pub const METHODS: &[MethodEntry] = &[MethodEntry {
     name: "lightwave",
-    description: "seed 002: a fixed rig of VPL shells around each light, gathered per pixel, with indirect shadows from a few VPL shadow maps",
+    description: "seed 002: a fixed rig of VPL shells around each light, gathered per vertex or per pixel, with indirect shadows from a few VPL shadow maps",
     default: false,
     settings: SETTINGS,
     settle_frames: |_| 1,
@@ -167,6 +176,8 @@ impl ShadowMode {
 #[derive(Clone, Debug)]
 pub struct LightWaveSettings {
     pub rig: Rig,
+    /// Gather at every vertex (the thesis) rather than at every pixel.
+    pub per_vertex: bool,
     pub shadows: ShadowMode,
     /// Which VPLs of each rig have a shadow map.
     pub shadow_set: Vec<u32>,
@@ -210,6 +221,7 @@ impl LightWaveSettings {
         };
         Ok(LightWaveSettings {
             rig,
+            per_vertex: settings.text("lightwave-gather")? == "vertex",
             shadows,
             shadow_set,
             steps: settings.u32("lightwave-steps")?,
@@ -270,6 +282,8 @@ pub struct LightWave {
     vpls: Buffer,
     vpl_pipeline: ComputePipeline,
     gather_pipeline: ComputePipeline,
+    /// The per-vertex gather (None: per pixel).
+    vertex: Option<VertexGather>,
     shadows: VplShadows,
 }
 
@@ -327,9 +341,17 @@ impl LightWave {
             gather_pipeline: ComputePipeline::new(
                 gpu,
                 "lightwave gather",
-                shaders::GI_LIGHTWAVE_GATHER_COMP,
+                if s.per_vertex {
+                    shaders::GI_LIGHTWAVE_GATHER_VERTEX_COMP
+                } else {
+                    shaders::GI_LIGHTWAVE_GATHER_COMP
+                },
                 &none,
             )?,
+            vertex: s
+                .per_vertex
+                .then(|| VertexGather::new(gpu, scene, light_count))
+                .transpose()?,
             shadows: VplShadows::new(gpu, scene, &lights, s.shadow_set.clone(), s.shadow_ratio)?,
             light_count,
             gain,
@@ -345,6 +367,11 @@ impl LightWave {
     pub fn read_vpls(&self, gpu: &crate::gpu::Gpu) -> GpuResult<Vec<[f32; 8]>> {
         let bytes = gpu.read_buffer(&self.vpls)?;
         Ok(bytemuck::cast_slice::<u8, [f32; 8]>(&bytes).to_vec())
+    }
+
+    /// The per-vertex gather's values (per vertex, per light: front, back), or None per pixel.
+    pub fn read_vertex_values(&self, gpu: &crate::gpu::Gpu) -> GpuResult<Option<Vec<[f32; 2]>>> {
+        self.vertex.as_ref().map(|v| v.read_values(gpu)).transpose()
     }
 }
 
@@ -394,14 +421,20 @@ impl GiMethod for LightWave {
             push: &push,
             threads: [rig.count() * self.light_count, 1, 1],
         })?;
+        if let Some(vertex) = &mut self.vertex {
+            vertex.record(rec, ctx, &self.vpls, rig.count())?;
+        }
         self.shadows.record(rec, ctx, rig)
     }
 
-    fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
-        let view = &ctx.views[view];
+    fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, index: usize) -> GpuResult<()> {
+        let view = &ctx.views[index];
         let Some(vpl_shadow_map) = self.shadows.image() else {
             return Ok(());
         };
+        if let Some(vertex) = &self.vertex {
+            vertex.record_view(rec, ctx, index)?;
+        }
         let s = &self.settings;
         let push = GatherPush {
             size: [view.width(), view.height()],
@@ -415,10 +448,7 @@ impl GiMethod for LightWave {
             gain: self.gain as f32,
         };
         let g = &view.gbuffer;
-        rec.compute(&ComputePass {
-            name: "lightwave gather",
-            pipeline: &self.gather_pipeline,
-            bindings: &[
+        let mut bindings = vec![
                 Binding::image_read(ids::GATHER_GBUFFER_POSITION, &g.position),
                 Binding::image_read(ids::GATHER_GBUFFER_NORMAL, &g.normal),
                 Binding::image_read(ids::GATHER_GBUFFER_ALBEDO, &g.albedo),
@@ -437,7 +467,14 @@ impl GiMethod for LightWave {
                 ),
                 Binding::read(ids::GATHER_VPL_SHADOW_VIEWS, self.shadows.views()),
                 Binding::image_write(ids::GATHER_HDR, &view.hdr),
-            ],
+            ];
+        if let Some(vertex) = &self.vertex {
+            bindings.extend(vertex.bindings(ctx, index));
+        }
+        rec.compute(&ComputePass {
+            name: "lightwave gather",
+            pipeline: &self.gather_pipeline,
+            bindings: &bindings,
             push: &push,
             threads: [view.width(), view.height(), 1],
         })
@@ -466,12 +503,13 @@ impl GiMethod for LightWave {
         };
         vec![
             format!(
-                "lightwave: {} VPLs per light ({}° between rays, {} per ray, radius {:.4}), {} light(s)",
+                "lightwave: {} VPLs per light ({}° between rays, {} per ray, radius {:.4}), {} light(s), gathered per {}",
                 rig.count(),
                 rig.angle_deg,
                 rig.per_ray,
                 rig.radius,
-                self.light_count
+                self.light_count,
+                if s.per_vertex { "vertex" } else { "pixel" }
             ),
             format!(
                 "lightwave: {shadows}, maps {side} (ratio {}), composite {}",

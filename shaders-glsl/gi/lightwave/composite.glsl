@@ -1,0 +1,163 @@
+// LightWave's shading, shared by both gathers (spec 002 §2.4-2.5): the thesis's gather (eq 4.5
+// without its specular part: vkgi's surfaces are Lambertian), the indirect visibility from the
+// VPL shadow maps (accurate: the mean of K maps; integrated: taps interpolated between the pairs
+// of 5 maps), and the composite, added to the HDR image that already holds the frame's
+// shadowed direct light. The including shader defines `gathered`. src/gi/lightwave/cpu.rs is
+// the f64 gather.
+#include "common/math.glsl"
+#include "common/lights.glsl"
+
+layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
+
+layout(binding = GATHER_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
+layout(binding = GATHER_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
+layout(binding = GATHER_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
+layout(binding = GATHER_VPLS, std430) readonly buffer Vpls { vec4 vpls[]; };
+layout(binding = GATHER_LIGHTS, std430) readonly buffer Lights { Light lights[]; };
+layout(binding = GATHER_SCENE_SHADOW_MAP) uniform sampler2DArray scene_shadow_map;
+layout(binding = GATHER_SCENE_SHADOW_VIEWS, std430) readonly buffer SceneShadowViews {
+    ShadowView scene_shadow_views[];
+};
+layout(binding = GATHER_VPL_SHADOW_MAP) uniform sampler2DArray vpl_shadow_map;
+struct VplShadowView {
+    mat4 view_projection;
+    vec4 eye_texel;   // xyz the VPL's position, w = texel size per unit distance
+};
+layout(binding = GATHER_VPL_SHADOW_VIEWS, std430) readonly buffer VplShadowViews {
+    VplShadowView vpl_views[];
+};
+layout(binding = GATHER_HDR, rgba32f) uniform image2D hdr;
+
+layout(push_constant) uniform Push {
+    uvec2 size;
+    uint light_count;
+    uint per_light;         // VPLs per light
+    uint shadow_mode;       // SHADOWS_*
+    uint maps_per_light;    // VPL shadow maps per light
+    uint steps;             // integrated shadows: interpolation steps per pair
+    uint composite;         // COMPOSITE_*
+    float fake;             // the fake-indirect multiplier m (eq 5.2)
+    float gain;             // G (1/m²): indirect irradiance = G * I * gather
+} pc;
+
+#include "gi/lightwave/rig_gather.glsl"
+
+// The thesis's gather for light l.
+float gather(uint l, vec3 p, vec3 n) {
+    return rig_gather(l * pc.per_light, pc.per_light, p, n);
+}
+
+// One shadow-map tap at homogeneous clip position `clip` of VPL shadow map `layer`: a 2x2
+// bilinear comparison (the thesis's LINEAR depth compare); 1 outside the map.
+float tap(uint layer, vec4 clip) {
+    if (clip.w <= 0.0) return 1.0;
+    vec3 ndc = clip.xyz / clip.w;
+    vec2 uv = ndc.xy * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || ndc.z > 1.0) {
+        return 1.0;
+    }
+    ivec2 size = textureSize(vpl_shadow_map, 0).xy;
+    vec2 t = uv * vec2(size) - 0.5;
+    ivec2 base = ivec2(floor(t));
+    vec2 f = t - vec2(base);
+    float lit[4];
+    for (int k = 0; k < 4; ++k) {
+        ivec2 texel = clamp(base + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
+        lit[k] = ndc.z <= texelFetch(vpl_shadow_map, ivec3(texel, int(layer)), 0).r ? 1.0 : 0.0;
+    }
+    return mix(mix(lit[0], lit[1], f.x), mix(lit[2], lit[3], f.x), f.y);
+}
+
+// The clip position of p (moved 1.5 texels along n against acne) in VPL shadow map `layer`.
+vec4 shadow_clip(uint layer, vec3 p, vec3 n) {
+    VplShadowView view = vpl_views[layer];
+    float offset = 1.5 * view.eye_texel.w * distance(view.eye_texel.xyz, p);
+    return view.view_projection * vec4(p + n * offset, 1.0);
+}
+
+// Fraction of light l's shadow-casting VPLs that see p: accurate, the mean of its maps;
+// integrated, per pair (a, b) of its 5 maps steps+1 taps at t = k/steps between the two clip
+// positions, read in map a for t < 1/2, map b for t > 1/2, both at t = 1/2 (so one step gives
+// the 5 maps' mean).
+float visibility(uint l, vec3 p, vec3 n) {
+    uint first = l * pc.maps_per_light;
+    if (pc.shadow_mode == SHADOWS_ACCURATE) {
+        float sum = 0.0;
+        for (uint i = 0u; i < pc.maps_per_light; ++i) sum += tap(first + i, shadow_clip(first + i, p, n));
+        return sum / float(pc.maps_per_light);
+    }
+    if (pc.shadow_mode == SHADOWS_INTEGRATED) {
+        float sum = 0.0;
+        for (uint a = 0u; a < 5u; ++a) {
+            vec4 clip_a = shadow_clip(first + a, p, n);
+            for (uint b = a + 1u; b < 5u; ++b) {
+                vec4 clip_b = shadow_clip(first + b, p, n);
+                for (uint k = 0u; k <= pc.steps; ++k) {
+                    vec4 clip = mix(clip_a, clip_b, float(k) / float(pc.steps));
+                    if (2u * k < pc.steps) sum += tap(first + a, clip);
+                    else if (2u * k > pc.steps) sum += tap(first + b, clip);
+                    else sum += 0.5 * (tap(first + a, clip) + tap(first + b, clip));
+                }
+            }
+        }
+        return sum / (10.0 * float(pc.steps + 1u));
+    }
+    return 1.0;
+}
+
+// The frame's direct irradiance at p, shadowed (as raster/lighting.comp) and unshadowed.
+void direct_irradiance(vec3 p, vec3 n, out vec3 shadowed, out vec3 unshadowed) {
+    shadowed = vec3(0.0);
+    unshadowed = vec3(0.0);
+    for (uint i = 0u; i < pc.light_count; ++i) {
+        Light light = lights[i];
+        vec3 to_light;
+        float distance;
+        vec3 e = light_incidence(light, p, to_light, distance);
+        float cos_theta = dot(n, to_light);
+        if (cos_theta <= 0.0 || all(equal(e, vec3(0.0)))) continue;
+        uint view = shadow_view_index(light, p);
+        float visible = shadow_visibility(scene_shadow_map, scene_shadow_views[view], view, p, n, distance);
+        unshadowed += e * cos_theta;
+        shadowed += e * (cos_theta * visible);
+    }
+}
+
+// The gather of light l at this pixel: gather.comp evaluates it here, gather_vertex.comp
+// interpolates it from the triangle's corners.
+float gathered(uint l, ivec2 pixel, vec3 p, vec3 n);
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
+    vec4 position = imageLoad(gbuffer_position, pixel);
+    if (position.w == 0.0 || pc.composite == COMPOSITE_DIRECT_ONLY) return;
+    vec3 p = position.xyz;
+    vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
+    vec3 albedo_over_pi = imageLoad(gbuffer_albedo, pixel).rgb * INV_PI;
+    vec3 added = vec3(0.0);
+    if (pc.composite == COMPOSITE_EQ_4_9 || pc.composite == COMPOSITE_SHIPPED) {
+        vec3 irradiance = vec3(0.0);
+        for (uint l = 0u; l < pc.light_count; ++l) {
+            float s = gathered(l, pixel, p, n);
+            if (s == 0.0) continue;
+            float v = visibility(l, p, n);
+            // As shipped, accurate shadows: 0.2 unshadowed + 0.8 shadowed, the visibility
+            // divided by half the map count (the code's /10 with 20 maps, range 0..2).
+            if (pc.composite == COMPOSITE_SHIPPED && pc.shadow_mode == SHADOWS_ACCURATE) {
+                v = 0.2 + 0.8 * 2.0 * v;
+            }
+            irradiance += lights[l].intensity_cos_inner.rgb * (pc.gain * s * v);
+        }
+        added = albedo_over_pi * irradiance;
+    }
+    if (pc.composite == COMPOSITE_SHIPPED || pc.composite == COMPOSITE_FAKE) {
+        // As shipped: 0.5 direct shadowed + 0.5 direct unshadowed; fake (eq 5.2):
+        // 0.5 shadowed + (m - 0.5) unshadowed. The frame already added the shadowed direct.
+        vec3 shadowed, unshadowed;
+        direct_irradiance(p, n, shadowed, unshadowed);
+        float m = pc.composite == COMPOSITE_FAKE ? pc.fake : 1.0;
+        added += albedo_over_pi * ((m - 0.5) * unshadowed - 0.5 * shadowed);
+    }
+    imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(added, 0.0));
+}

@@ -1,0 +1,42 @@
+#version 460
+// LightWave per vertex (the thesis's Gouraud shading, spec 002 §2.4): each pixel's gather is
+// interpolated from its triangle's corners (vertex_gather.comp), with the barycentric weights
+// of the pixel's G-buffer position in the triangle that triangle_ids.frag saw there; the side
+// (front or back value) follows the G-buffer normal, which faces the camera.
+#include "gi/lightwave/composite.glsl"
+#include "common/scene.glsl"
+
+layout(binding = GATHER_VERTICES, std430) readonly buffer Vertices { Vertex vertices[]; };
+layout(binding = GATHER_TRIANGLES, std430) readonly buffer Triangles { Triangle triangles[]; };
+layout(binding = GATHER_VERTEX_NORMALS, std430) readonly buffer Normals { vec4 normals[]; };
+layout(binding = GATHER_VERTEX_VALUES, std430) readonly buffer Values { vec2 values[]; };
+layout(binding = GATHER_TRIANGLE_IDS, r32ui) readonly uniform uimage2D triangle_ids;
+
+// The weights of p's projection onto triangle (a, b, c) (a third each if it is degenerate).
+vec3 barycentric(vec3 p, vec3 a, vec3 b, vec3 c) {
+    vec3 e1 = b - a, e2 = c - a, d = p - a;
+    float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+    float d1 = dot(d, e1), d2 = dot(d, e2);
+    float det = d11 * d22 - d12 * d12;
+    if (!(det > 1e-30 * d11 * d22)) return vec3(1.0 / 3.0);
+    float v = (d22 * d1 - d12 * d2) / det;
+    float w = (d11 * d2 - d12 * d1) / det;
+    return vec3(1.0 - v - w, v, w);
+}
+
+float gathered(uint l, ivec2 pixel, vec3 p, vec3 n) {
+    uint id = imageLoad(triangle_ids, pixel).x;
+    // A pixel the G-buffer covers and this raster missed (none, with the same geometry).
+    if (id == 0u) return gather(l, p, n);
+    uvec3 corner = triangles[id - 1u].xyz;
+    vec3 weight = barycentric(p, vertices[corner.x].position.xyz,
+                              vertices[corner.y].position.xyz, vertices[corner.z].position.xyz);
+    vec3 normal = weight.x * normals[corner.x].xyz + weight.y * normals[corner.y].xyz
+                + weight.z * normals[corner.z].xyz;
+    vec3 value = vec3(0.0);
+    for (int k = 0; k < 3; ++k) {
+        vec2 front_back = values[corner[k] * pc.light_count + l];
+        value[k] = dot(normal, n) >= 0.0 ? front_back.x : front_back.y;
+    }
+    return dot(weight, value);
+}

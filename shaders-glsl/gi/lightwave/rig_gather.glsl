@@ -1,0 +1,22 @@
+// The thesis's indirect term (eq 4.5 without its specular part; cpu.rs `gather` is the f64
+// definition): the mean over `count` VPLs from `first` of weight x sat(n·ω) x lobe, with the
+// 240° lobe (cos θ + 0.5)/1.5 and no distance falloff. The includer declares `vpls`, two vec4
+// per VPL: (position, weight), (direction, light index).
+
+float lobe(float cos_theta) {
+    return clamp((cos_theta + 0.5) / 1.5, 0.0, 1.0);
+}
+
+float rig_gather(uint first, uint count, vec3 p, vec3 n) {
+    float sum = 0.0;
+    for (uint j = first; j < first + count; ++j) {
+        vec4 position_weight = vpls[2u * j];
+        vec3 direction = vpls[2u * j + 1u].xyz;
+        vec3 d = position_weight.xyz - p;
+        float length_sq = dot(d, d);
+        if (length_sq <= 1e-24) continue;
+        vec3 omega = d * inversesqrt(length_sq);
+        sum += position_weight.w * clamp(dot(n, omega), 0.0, 1.0) * lobe(-dot(direction, omega));
+    }
+    return sum / float(count);
+}
