@@ -273,6 +273,14 @@ fn the_composites_add_what_the_thesis_adds_to_direct_light() {
         drop(run_frames(&gpu, &mut frame, None, 0, 1).expect("frame"));
         frame.read_hdr(&gpu).expect("readback")
     };
+    // Composites without indirect light build none of it: no VPL maps, no vertex gather.
+    for composite in ["direct-only", "fake"] {
+        let s = settings(&scene, &[("lightwave-composite", composite)]);
+        assert_eq!(
+            (s.shadows, s.per_vertex, s.gain),
+            (ShadowMode::None, false, Some(0.0))
+        );
+    }
     let direct_only = render(&[("lightwave-composite", "direct-only")]);
     let (worst, peak) = common::worst_difference(&direct_only, &direct);
     assert_eq!(worst, 0.0, "direct-only adds nothing (peak {peak})");

@@ -231,6 +231,28 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
 }
 
 #[test]
+fn lightwave_keys_switch_its_gather_shells_shadows_and_composite() {
+    let dir = scratch("lightwave-keys");
+    // Per frame: gather per pixel, per vertex again, a sixth shell, integrated shadows, the
+    // composite back from eq4.9 to fake (choices cycle), which gathers nothing.
+    let report = view_with_keys(
+        &dir,
+        &["--method", "lightwave", "--size", "32x24"],
+        5,
+        "h,h,],;,c",
+    );
+    let runs = |name: &str| pass_runs(&report, name);
+    assert_eq!(runs("lightwave gather"), 5);
+    assert_eq!(
+        runs("lightwave vertex gather"),
+        3,
+        "not in the per-pixel frame nor with the fake composite"
+    );
+    assert_eq!(runs("lightwave triangle ids"), 3);
+    assert_eq!(runs("lightwave vpls"), 5);
+}
+
+#[test]
 fn the_arrow_keys_move_an_emitter_and_the_method_is_rebuilt_when_they_let_go() {
     let dir = scratch("emitter");
     // cornell-area has no punctual light: the arrows move its ceiling light. Per frame (with

@@ -154,15 +154,33 @@ pub fn similarity(
     mask: Option<&[bool]>,
 ) -> Result<f64, InputError> {
     check(test, reference, mask)?;
-    let (a, b) = (tonemap_srgb8(test), tonemap_srgb8(reference));
-    let (mut sum, mut values) = (0.0f64, 0usize);
-    for (i, (a, b)) in a.chunks_exact(3).zip(b.chunks_exact(3)).enumerate() {
-        if mask.is_none_or(|m| m[i]) {
-            sum += (0..3).map(|c| byte_similarity(a[c], b[c])).sum::<f64>();
-            values += 3;
-        }
+    let (mut a, mut b) = (tonemap_srgb8(test), tonemap_srgb8(reference));
+    if let Some(mask) = mask {
+        let keep = |bytes: &[u8]| -> Vec<u8> {
+            bytes
+                .chunks_exact(3)
+                .zip(mask)
+                .filter(|(_, m)| **m)
+                .flat_map(|(p, _)| p.iter().copied())
+                .collect()
+        };
+        (a, b) = (keep(&a), keep(&b));
     }
-    Ok(sum / values as f64)
+    Ok(similarity_of_bytes(&a, &b))
+}
+
+/// Seed 002's similarity of two 8-bit images of equal size (the thesis's script works on the
+/// bytes of its screenshots): the mean of `byte_similarity` over every value; 1 for no value.
+pub fn similarity_of_bytes(test: &[u8], reference: &[u8]) -> f64 {
+    if test.is_empty() {
+        return 1.0;
+    }
+    let sum: f64 = test
+        .iter()
+        .zip(reference)
+        .map(|(&a, &b)| byte_similarity(a, b))
+        .sum();
+    sum / test.len() as f64
 }
 
 /// Seed 002's per-value similarity: (smaller + 1)/(larger + 1), so 200 against 100 is about
@@ -205,6 +223,9 @@ mod tests {
         );
         assert!((byte_similarity(200, 100) - 101.0 / 201.0).abs() < 1e-15);
         assert_eq!(byte_similarity(0, 255), 1.0 / 256.0);
+        let masked = |m: &[bool]| similarity(&test, &reference, Some(m)).unwrap();
+        assert_eq!(masked(&[true, false]), 1.0);
+        assert!((masked(&[false, true]) - (2.0 + 189.0 / 226.0) / 3.0).abs() < 1e-12);
         let only_first = compare(&test, &reference, Some(&[true, false])).unwrap();
         assert_eq!(
             (only_first.rmse, only_first.mae, only_first.pixels),

@@ -50,7 +50,8 @@ const SETTINGS: &[Setting] = &[
         },
         "5",
         "VPLs (shells) along each ray; the sixth shell weighs -0.6, as in the thesis",
-    ),
+    )
+    .keys('[', ']', 1.0),
     Setting::new(
         "lightwave-radius",
         Kind::Text,
@@ -62,26 +63,30 @@ const SETTINGS: &[Setting] = &[
         Kind::Choice(&["vertex", "pixel"]),
         "vertex",
         "Where the gather runs: at every vertex, interpolated across triangles (the thesis's; measured closer to the path tracer, docs/lightwave.md) or at every pixel (free of the mesh's tessellation)",
-    ),
+    )
+    .keys('g', 'h', 1.0),
     Setting::new(
         "lightwave-shadows",
         Kind::Choice(&["accurate", "integrated"]),
         "accurate",
         "Indirect shadows: accurate (the mean of --lightwave-shadow-maps VPL maps) or integrated (5 maps, taps interpolated between pairs)",
-    ),
+    )
+    .keys(';', '\'', 1.0),
     Setting::new(
         "lightwave-shadow-maps",
         Kind::Int { min: 0, max: 64 },
         "20",
         "VPLs per light with a shadow map in accurate mode (the thesis's K; 0: no indirect shadows)",
     )
+    .keys(',', '.', 5.0)
     .sweep(&["0", "20"]),
     Setting::new(
         "lightwave-steps",
         Kind::Int { min: 1, max: 64 },
         "4",
         "Integrated shadows: steps between each pair of maps (1: the 5 maps' mean)",
-    ),
+    )
+    .keys('-', '=', 1.0),
     Setting::new(
         "lightwave-shadow-ratio",
         Kind::Float {
@@ -96,7 +101,8 @@ const SETTINGS: &[Setting] = &[
         Kind::Choice(&["eq4.9", "shipped", "direct-only", "fake"]),
         "eq4.9",
         "eq4.9: direct + indirect x visibility; shipped: the thesis code's half-strength direct shadows and 0.2/0.8 split; direct-only; fake: eq 5.2 (direct times --lightwave-fake)",
-    ),
+    )
+    .keys('c', 'v', 1.0),
     Setting::new(
         "lightwave-fake",
         Kind::Float { min: 0.5, max: 4.0 },
@@ -203,25 +209,30 @@ impl LightWaveSettings {
             settings.u32("lightwave-per-ray")?,
             radius,
         )?;
-        let maps = settings.u32("lightwave-shadow-maps")?;
-        let (shadows, shadow_set) = match settings.text("lightwave-shadows")? {
-            "integrated" => (ShadowMode::Integrated, rig.integrated_shadow_set().to_vec()),
-            _ if maps == 0 => (ShadowMode::None, Vec::new()),
-            _ => (ShadowMode::Accurate, rig.accurate_shadow_set(maps)),
-        };
         let composite = match settings.text("lightwave-composite")? {
             "shipped" => "shipped",
             "direct-only" => "direct-only",
             "fake" => "fake",
             _ => "eq4.9",
         };
+        // direct-only and fake use no indirect light: like the thesis's builds of them, they
+        // render no VPL shadow map, gather nothing and fit no gain.
+        let indirect = adds_indirect(composite);
+        let maps = settings.u32("lightwave-shadow-maps")?;
+        let (shadows, shadow_set) = match settings.text("lightwave-shadows")? {
+            _ if !indirect => (ShadowMode::None, Vec::new()),
+            "integrated" => (ShadowMode::Integrated, rig.integrated_shadow_set().to_vec()),
+            _ if maps == 0 => (ShadowMode::None, Vec::new()),
+            _ => (ShadowMode::Accurate, rig.accurate_shadow_set(maps)),
+        };
         let gain = match settings.text("lightwave-gain")? {
+            _ if !indirect => Some(0.0),
             t if t.eq_ignore_ascii_case("fit") => None,
             t => Some(non_negative("lightwave-gain", t)?),
         };
         Ok(LightWaveSettings {
             rig,
-            per_vertex: settings.text("lightwave-gather")? == "vertex",
+            per_vertex: indirect && settings.text("lightwave-gather")? == "vertex",
             shadows,
             shadow_set,
             steps: settings.u32("lightwave-steps")?,
@@ -233,6 +244,11 @@ impl LightWaveSettings {
         })
     }
 
+    /// The composite adds the gathered indirect light (eq4.9, shipped).
+    pub fn uses_indirect(&self) -> bool {
+        adds_indirect(self.composite)
+    }
+
     fn composite_id(&self) -> u32 {
         match self.composite {
             "shipped" => ids::COMPOSITE_SHIPPED,
@@ -241,6 +257,11 @@ impl LightWaveSettings {
             _ => ids::COMPOSITE_EQ_4_9,
         }
     }
+}
+
+/// Whether `composite` adds the gathered indirect light.
+fn adds_indirect(composite: &str) -> bool {
+    matches!(composite, "eq4.9" | "shipped")
 }
 
 /// `text` as a finite number > 0 (`name` names the flag in the error).
@@ -306,6 +327,7 @@ impl LightWave {
         )?;
         // The BVH only serves the fit: a given gain skips building it.
         let (gain, gain_source) = match (s.gain, setup.reference) {
+            (Some(g), _) if !s.uses_indirect() => (g, GainSource::Fixed("unused by the composite")),
             (Some(g), _) => (g, GainSource::Fixed("given")),
             (None, Some(reference)) => (
                 cpu::fit_gain(
