@@ -10,7 +10,7 @@ use vkgi::gi::lightwave::{LightWave, LightWaveSettings, ShadowMode};
 use vkgi::gi::registry::{self, Setup};
 use vkgi::render::runner::run_frames;
 use vkgi::render::{Frame, FrameOptions};
-use vkgi::scene::Scene;
+use vkgi::scene::{Mesh, Scene};
 
 /// Settings from the command line's words.
 fn settings(scene: &Scene, overrides: &[(&str, &str)]) -> LightWaveSettings {
@@ -196,6 +196,71 @@ fn the_vertex_gather_is_the_f64_gather_at_every_vertex_interpolated_across_trian
         differs_from_pixel_gather > 0,
         "two triangles cannot hold the rig's light exactly: the tessellation shows"
     );
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn the_vertex_gather_covers_more_vertices_than_one_row_of_workgroups_and_meshes_without_normals() {
+    let gpu = common::gpu();
+    let plane = common::plane_under_point_light(0.5, 10.0);
+    // 110 x 110 quads of two triangles, three vertices each: 72600 vertices, over the 65535
+    // workgroups of one row; no vertex normals, so the gather uses the faces' (+Y here).
+    let cells = 110;
+    let mut mesh = Mesh::default();
+    for i in 0..cells {
+        for j in 0..cells {
+            let at = |di: u32, dj: u32| {
+                let t = |k: u32| -2.0 + 4.0 * k as f32 / cells as f32;
+                Vec3::new(t(i + di), 0.0, t(j + dj))
+            };
+            mesh.push_triangle([at(0, 0), at(0, 1), at(1, 1)], [Vec3::ZERO; 3], 0);
+            mesh.push_triangle([at(0, 0), at(1, 1), at(1, 0)], [Vec3::ZERO; 3], 0);
+        }
+    }
+    let scene = Scene::new(
+        "grid".into(),
+        mesh,
+        plane.materials.clone(),
+        plane.lights.clone(),
+        plane.camera,
+    )
+    .expect("scene");
+    let s = settings(
+        &scene,
+        &[
+            ("lightwave-gain", "1"),
+            ("lightwave-shadow-maps", "0"),
+            ("lightwave-gather", "vertex"),
+            ("lightwave-angle", "90"),
+        ],
+    );
+    let rig = s.rig;
+    let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
+    let mut frame = Frame::new(&gpu, &scene, indirect(16, 12)).expect("frame");
+    drop(run_frames(&gpu, &mut frame, Some(&mut method), 0, 1).expect("frame"));
+    let light = &scene.lights[0];
+    let vpls = rig.vpls(light.position.as_dvec3(), rig_axis(light));
+    let values = method
+        .read_vertex_values(&gpu)
+        .expect("readback")
+        .expect("per vertex");
+    assert_eq!(values.len(), 72600);
+    assert!(
+        values[72599][0] > 1e-3,
+        "the last row's vertices are lit: {:?}",
+        values[72599]
+    );
+    for (v, got) in values.iter().enumerate() {
+        let p = scene.mesh.positions[v].as_dvec3();
+        for (side, normal) in [(0, DVec3::Y), (1, DVec3::NEG_Y)] {
+            let want = gather(&vpls, p, normal);
+            let got = f64::from(got[side]);
+            assert!(
+                (got - want).abs() <= 1e-4 * want + 1e-7,
+                "vertex {v} side {side}: {got} vs {want}"
+            );
+        }
+    }
     common::assert_no_validation_errors(&gpu);
 }
 

@@ -7,9 +7,10 @@ float lobe(float cos_theta) {
     return clamp((cos_theta + 0.5) / 1.5, 0.0, 1.0);
 }
 
-float rig_gather(uint first, uint count, vec3 p, vec3 n) {
+// The sum (not yet divided by `count`) over every `stride`-th VPL from `first + start`.
+float rig_gather_part(uint first, uint count, uint start, uint stride, vec3 p, vec3 n) {
     float sum = 0.0;
-    for (uint j = first; j < first + count; ++j) {
+    for (uint j = first + start; j < first + count; j += stride) {
         vec4 position_weight = vpls[2u * j];
         vec3 direction = vpls[2u * j + 1u].xyz;
         vec3 d = position_weight.xyz - p;
@@ -18,5 +19,9 @@ float rig_gather(uint first, uint count, vec3 p, vec3 n) {
         vec3 omega = d * inversesqrt(length_sq);
         sum += position_weight.w * clamp(dot(n, omega), 0.0, 1.0) * lobe(-dot(direction, omega));
     }
-    return sum / float(count);
+    return sum;
+}
+
+float rig_gather(uint first, uint count, vec3 p, vec3 n) {
+    return rig_gather_part(first, count, 0u, 1u, p, n) / float(count);
 }

@@ -14,7 +14,7 @@ use crate::gpu::{
 };
 use crate::render::targets::View;
 use crate::scene::Scene;
-use crate::shader_shared::{RASTER_TRIANGLES, RASTER_VERTICES};
+use crate::shader_shared::{LINEAR_WORKGROUP, RASTER_TRIANGLES, RASTER_VERTICES};
 use crate::shaders;
 
 crate::push_constants! {
@@ -30,6 +30,9 @@ crate::push_constants! {
         view_projection: [[f32; 4]; 4],
     }
 }
+
+/// Workgroups along x every device allows (maxComputeWorkGroupCount's required minimum).
+const MAX_WORKGROUPS_X: u32 = 65_535;
 
 /// One view's triangle image and the depth it is drawn with.
 struct TriangleIds {
@@ -111,8 +114,15 @@ impl VertexGather {
                 light_count: self.light_count,
                 per_light,
             },
-            threads: [self.vertex_count * self.light_count, 1, 1],
+            threads: self.workgroups(),
         })
+    }
+
+    /// One workgroup per (vertex, light), in rows of at most `MAX_WORKGROUPS_X` (as threads).
+    fn workgroups(&self) -> [u32; 3] {
+        let total = (self.vertex_count * self.light_count).max(1);
+        let columns = total.min(MAX_WORKGROUPS_X);
+        [columns * LINEAR_WORKGROUP, total.div_ceil(columns), 1]
     }
 
     /// Draw the triangle each pixel of view `index` sees.
