@@ -6,8 +6,8 @@
 //! Per row: the median GPU time of a frame, the speed relative to the table's first row (its
 //! default) next to the thesis's FPS ratio, the thesis's "% similar" against the first row
 //! (lower resolutions stretched to the first row's size, as the thesis did) next to the
-//! thesis's, and the row's real error against the path-traced reference: relMSE and FLIP of
-//! the full image, and its % similar to the reference. The resolutions are the thesis's ÷ 10.
+//! thesis's, and the row's real error against the path-traced reference: RMSE, relMSE and FLIP
+//! of the full image, and its % similar to the reference. The resolutions are the thesis's ÷ 10.
 //!
 //! cargo bench --bench lightwave_tables [-- OUT_DIR]   (prints the markdown docs/lightwave.md holds)
 
@@ -313,6 +313,7 @@ const INTEGRATED_30_10: &[(&str, &str)] = &[
 #[derive(Clone)]
 struct Measured {
     ms: f64,
+    rmse: f64,
     rel_mse: f64,
     flip: f64,
     similar_to_truth: f64,
@@ -348,6 +349,7 @@ fn measure(gpu: &Gpu, out: &Path, row: &Row) -> anyhow::Result<Measured> {
     let r = &report.rows[0];
     Ok(Measured {
         ms: r.ms_per_frame,
+        rmse: r.full.rmse,
         rel_mse: r.full.rel_mse,
         flip: r.full.flip,
         similar_to_truth: r.full.similarity,
@@ -387,9 +389,9 @@ fn main() -> anyhow::Result<()> {
     for table in TABLES {
         println!("**{}**\n", table.title);
         println!(
-            "| row | ms/frame | speed vs first | thesis FPS ratio | % similar to first | thesis % similar | relMSE | FLIP | % similar to truth |"
+            "| row | ms/frame | speed vs first | thesis FPS ratio | % similar to first | thesis % similar | RMSE | relMSE | FLIP | % similar to truth |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|");
         let mut first: Option<(Measured, Option<f64>)> = None;
         for row in table.rows {
             let m = measure(&gpu, &out, row)?;
@@ -400,11 +402,12 @@ fn main() -> anyhow::Result<()> {
             };
             let thesis_similar = row.similar.map_or("-".into(), |s| format!("{s:.3}"));
             println!(
-                "| {} | {:.1} | {:.2} | {fps_ratio} | {:.3} | {thesis_similar} | {:.4} | {:.4} | {:.3} |",
+                "| {} | {:.1} | {:.2} | {fps_ratio} | {:.3} | {thesis_similar} | {:.4} | {:.4} | {:.4} | {:.3} |",
                 row.label,
                 m.ms,
                 base.ms / m.ms,
                 similar_to_default(&m.image, &base.image)?,
+                m.rmse,
                 m.rel_mse,
                 m.flip,
                 100.0 * m.similar_to_truth,

@@ -226,10 +226,10 @@ impl LightWaveSettings {
             _ => (ShadowMode::Accurate, rig.accurate_shadow_set(maps)),
         };
         let gain = match settings.text("lightwave-gain")? {
-            _ if !indirect => Some(0.0),
             t if t.eq_ignore_ascii_case("fit") => None,
             t => Some(non_negative("lightwave-gain", t)?),
         };
+        let gain = if indirect { gain } else { Some(0.0) };
         Ok(LightWaveSettings {
             rig,
             per_vertex: indirect && settings.text("lightwave-gather")? == "vertex",
