@@ -1,7 +1,8 @@
 #version 460
-// VPL injection: every RSM texel is a VPL moved half a cell along its normal and added to its
-// cell as a clamped-cosine intensity lobe (Φ/π) SH_cos(n), per colour channel, with float
-// atomics. src/gi/lpv/cpu.rs inject is the same in f64.
+// VPL injection: every RSM texel is a VPL moved --inject-offset cells along its normal (default
+// half a cell, as the thesis) and added to its cell as a clamped-cosine intensity lobe (Φ/π)
+// SH_cos(n), per colour channel, with float atomics. src/gi/lpv/cpu.rs inject is the same in
+// f64.
 #extension GL_EXT_shader_atomic_float : require
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"

@@ -1,8 +1,8 @@
 #version 460
-// Indirect light from the lattice: at each surface point pushed half a cell along its normal,
-// the trilinearly interpolated SH intensity of the R, G and B lattices is projected on the
-// cosine lobe toward the surface, SH_cos(-n), turned into radiance by the cell area and added,
-// times albedo / pi, to the HDR image.
+// Indirect light from the lattice: at each surface point pushed --lookup-offset cells along its
+// normal (default 1; the thesis: half a cell), the trilinearly interpolated SH intensity of the
+// R, G and B lattices is projected on the cosine lobe toward the surface, SH_cos(-n), turned
+// into radiance by the cell area and added, times albedo / pi, to the HDR image.
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"
 #include "gi/lpv/lattice.glsl"

@@ -3,7 +3,8 @@
 //! * 26-neighbour (seed 000, after Billeter et al. 2012): per neighbour cell, the mean clamped-
 //!   cosine lobe toward uniform samples of the neighbour cell inside its inscribed-sphere cone
 //!   (stochastic rejection sampling with a fixed seed), all scaled by one κ that a golden-section
-//!   search picks so that one clamped propagation step conserves the energy of single lobes;
+//!   search picks so that one clamped propagation step conserves the energy of the
+//!   distributions propagation produces (lobes propagated a few steps: `propagated_distributions`);
 //!   outscattering fractions γ_j = Γ_j.x / Σ Γ_k.x (= 1/26).
 //! * 6-neighbour (Kaplanyan & Dachsbacher 2010): for each axis, the 5 faces of the destination
 //!   cell other than the shared one, with the direction from the source centre to each face
