@@ -6,6 +6,7 @@ mod common;
 use glam::{DVec3, Vec3};
 use vkgi::gi::GiMethod;
 use vkgi::gi::lightwave::cpu::{gather, rig_axis};
+use vkgi::gi::lightwave::rig::Vpl;
 use vkgi::gi::lightwave::{LightWave, LightWaveSettings, ShadowMode};
 use vkgi::gi::registry::{self, Setup};
 use vkgi::render::runner::run_frames;
@@ -123,6 +124,26 @@ fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3], slack: f64) -> Option<[f64; 3]> 
     weights.iter().all(|&x| x >= -slack).then_some(weights)
 }
 
+/// Assert that the per-vertex values (front, back) equal the f64 gather at every vertex of a
+/// mesh lying in the y = 0 plane, front +Y and back -Y, within 1e-4 relative; whether some
+/// vertex's back is lit.
+fn assert_vertex_values_are_the_f64_gather(values: &[[f32; 2]], mesh: &Mesh, vpls: &[Vpl]) -> bool {
+    let mut back_lit = false;
+    for (v, got) in values.iter().enumerate() {
+        let p = mesh.positions[v].as_dvec3();
+        for (side, normal) in [(0, DVec3::Y), (1, DVec3::NEG_Y)] {
+            let want = gather(vpls, p, normal);
+            let got = f64::from(got[side]);
+            assert!(
+                (got - want).abs() <= 1e-4 * want + 1e-7,
+                "vertex {v} side {side}: {got} vs {want}"
+            );
+            back_lit |= side == 1 && want > 1e-3;
+        }
+    }
+    back_lit
+}
+
 #[test]
 fn the_vertex_gather_is_the_f64_gather_at_every_vertex_interpolated_across_triangles() {
     let gpu = common::gpu();
@@ -150,19 +171,7 @@ fn the_vertex_gather_is_the_f64_gather_at_every_vertex_interpolated_across_trian
         .expect("per vertex");
     let mesh = &scene.mesh;
     assert_eq!(values.len(), mesh.positions.len());
-    let mut back_lit = false;
-    for (v, got) in values.iter().enumerate() {
-        let p = mesh.positions[v].as_dvec3();
-        for (side, normal) in [(0, DVec3::Y), (1, DVec3::NEG_Y)] {
-            let want = gather(&vpls, p, normal);
-            let got = f64::from(got[side]);
-            assert!(
-                (got - want).abs() <= 1e-4 * want + 1e-7,
-                "vertex {v} side {side}: {got} vs {want}"
-            );
-            back_lit |= side == 1 && want > 1e-3;
-        }
-    }
+    let back_lit = assert_vertex_values_are_the_f64_gather(&values, mesh, &vpls);
     assert!(back_lit, "some VPLs light the plane's underside too");
     // Per pixel: the front values, interpolated across the triangle the pixel lies in.
     let image = frame.read_hdr(&gpu).expect("readback");
@@ -250,17 +259,7 @@ fn the_vertex_gather_covers_more_vertices_than_one_row_of_workgroups_and_meshes_
         "the last row's vertices are lit: {:?}",
         values[72599]
     );
-    for (v, got) in values.iter().enumerate() {
-        let p = scene.mesh.positions[v].as_dvec3();
-        for (side, normal) in [(0, DVec3::Y), (1, DVec3::NEG_Y)] {
-            let want = gather(&vpls, p, normal);
-            let got = f64::from(got[side]);
-            assert!(
-                (got - want).abs() <= 1e-4 * want + 1e-7,
-                "vertex {v} side {side}: {got} vs {want}"
-            );
-        }
-    }
+    assert_vertex_values_are_the_f64_gather(&values, &scene.mesh, &vpls);
     common::assert_no_validation_errors(&gpu);
 }
 

@@ -2,7 +2,7 @@
 // without its specular part: vkgi's surfaces are Lambertian), the indirect visibility from the
 // VPL shadow maps (accurate: the mean of K maps; integrated: taps interpolated between the pairs
 // of 5 maps), and the composite, added to the HDR image that already holds the frame's
-// shadowed direct light. The including shader defines `gathered`. src/gi/lightwave/cpu.rs is
+// shadowed direct light. The including shader defines `prepare_gather` and `gathered`. src/gi/lightwave/cpu.rs is
 // the f64 gather.
 #include "common/math.glsl"
 #include "common/lights.glsl"
@@ -123,9 +123,11 @@ void direct_irradiance(vec3 p, vec3 n, out vec3 shadowed, out vec3 unshadowed) {
     }
 }
 
+// What the gather needs at this pixel, whatever the light (once per pixel).
+void prepare_gather(ivec2 pixel, vec3 p, vec3 n);
 // The gather of light l at this pixel: gather.comp evaluates it here, gather_vertex.comp
 // interpolates it from the triangle's corners.
-float gathered(uint l, ivec2 pixel, vec3 p, vec3 n);
+float gathered(uint l, vec3 p, vec3 n);
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -138,8 +140,9 @@ void main() {
     vec3 added = vec3(0.0);
     if (pc.composite == COMPOSITE_EQ_4_9 || pc.composite == COMPOSITE_SHIPPED) {
         vec3 irradiance = vec3(0.0);
+        prepare_gather(pixel, p, n);
         for (uint l = 0u; l < pc.light_count; ++l) {
-            float s = gathered(l, pixel, p, n);
+            float s = gathered(l, p, n);
             if (s == 0.0) continue;
             float v = visibility(l, p, n);
             // As shipped, accurate shadows: 0.2 unshadowed + 0.8 shadowed, the visibility

@@ -3,6 +3,8 @@
 // own position and normal, so the indirect light does not depend on the mesh's tessellation.
 #include "gi/lightwave/composite.glsl"
 
-float gathered(uint l, ivec2 pixel, vec3 p, vec3 n) {
+void prepare_gather(ivec2 pixel, vec3 p, vec3 n) {}
+
+float gathered(uint l, vec3 p, vec3 n) {
     return gather(l, p, n);
 }

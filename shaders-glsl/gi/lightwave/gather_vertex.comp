@@ -24,19 +24,31 @@ vec3 barycentric(vec3 p, vec3 a, vec3 b, vec3 c) {
     return vec3(1.0 - v - w, v, w);
 }
 
-float gathered(uint l, ivec2 pixel, vec3 p, vec3 n) {
-    uint id = imageLoad(triangle_ids, pixel).x;
+// The pixel's triangle (0: none), its corners, their weights, and which side of the corners'
+// gather normals the G-buffer normal faces.
+uint triangle_id;
+uvec3 corners;
+vec3 weights;
+bool front;
+
+void prepare_gather(ivec2 pixel, vec3 p, vec3 n) {
+    triangle_id = imageLoad(triangle_ids, pixel).x;
+    if (triangle_id == 0u) return;
+    corners = triangles[triangle_id - 1u].xyz;
+    weights = barycentric(p, vertices[corners.x].position.xyz, vertices[corners.y].position.xyz,
+                          vertices[corners.z].position.xyz);
+    vec3 normal = weights.x * normals[corners.x].xyz + weights.y * normals[corners.y].xyz
+                + weights.z * normals[corners.z].xyz;
+    front = dot(normal, n) >= 0.0;
+}
+
+float gathered(uint l, vec3 p, vec3 n) {
     // A pixel the G-buffer covers and this raster missed (none, with the same geometry).
-    if (id == 0u) return gather(l, p, n);
-    uvec3 corner = triangles[id - 1u].xyz;
-    vec3 weight = barycentric(p, vertices[corner.x].position.xyz,
-                              vertices[corner.y].position.xyz, vertices[corner.z].position.xyz);
-    vec3 normal = weight.x * normals[corner.x].xyz + weight.y * normals[corner.y].xyz
-                + weight.z * normals[corner.z].xyz;
-    vec3 value = vec3(0.0);
+    if (triangle_id == 0u) return gather(l, p, n);
+    vec3 value;
     for (int k = 0; k < 3; ++k) {
-        vec2 front_back = values[corner[k] * pc.light_count + l];
-        value[k] = dot(normal, n) >= 0.0 ? front_back.x : front_back.y;
+        vec2 front_back = values[corners[k] * pc.light_count + l];
+        value[k] = front ? front_back.x : front_back.y;
     }
-    return dot(weight, value);
+    return dot(weights, value);
 }
