@@ -1,20 +1,18 @@
 //! LightWave's per-vertex gather, as the thesis shades (spec 002 §2.4): the indirect term of
 //! every light at every vertex once per frame (front and back: vkgi's surfaces are two-sided),
 //! interpolated across each triangle at every pixel. Each view gets an image of the triangle
-//! each pixel sees, drawn with the G-buffer's geometry, so the interpolation knows its corners.
-
-use ash::vk;
+//! each pixel sees (gi/shared/triangle_ids.rs), so the interpolation knows its corners.
 
 use super::bindings as ids;
 use super::cpu::gather_normals;
 use crate::gi::FrameContext;
+use crate::gi::shared::triangle_ids::TriangleIds;
 use crate::gpu::{
-    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
-    RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
+    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder,
+    Specialization,
 };
-use crate::render::targets::View;
 use crate::scene::Scene;
-use crate::shader_shared::{LINEAR_WORKGROUP, RASTER_TRIANGLES, RASTER_VERTICES};
+use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
 
 crate::push_constants! {
@@ -25,20 +23,8 @@ crate::push_constants! {
     }
 }
 
-crate::push_constants! {
-    struct TriangleIdsPush {
-        view_projection: [[f32; 4]; 4],
-    }
-}
-
 /// Workgroups along x every device allows (maxComputeWorkGroupCount's required minimum).
 const MAX_WORKGROUPS_X: u32 = 65_535;
-
-/// One view's triangle image and the depth it is drawn with.
-struct TriangleIds {
-    ids: Image,
-    depth: Image,
-}
 
 pub struct VertexGather {
     vertex_count: u32,
@@ -47,9 +33,7 @@ pub struct VertexGather {
     /// Per vertex, per light: (front, back) gather.
     values: Buffer,
     gather: ComputePipeline,
-    triangle_ids: RasterPipeline,
-    /// Per view, made (again) when the view's size changes.
-    views: Vec<TriangleIds>,
+    triangle_ids: TriangleIds,
 }
 
 impl VertexGather {
@@ -75,18 +59,7 @@ impl VertexGather {
                 shaders::GI_LIGHTWAVE_VERTEX_GATHER_COMP,
                 &Specialization::new(),
             )?,
-            triangle_ids: RasterPipeline::new(
-                gpu,
-                &RasterPipelineDesc {
-                    name: "lightwave triangle ids",
-                    vertex: shaders::GI_LIGHTWAVE_TRIANGLE_IDS_VERT,
-                    fragment: Some(shaders::GI_LIGHTWAVE_TRIANGLE_IDS_FRAG),
-                    color_formats: &[vk::Format::R32_UINT],
-                    depth_format: Some(vk::Format::D32_SFLOAT),
-                    depth_bias: None,
-                },
-            )?,
-            views: Vec::new(),
+            triangle_ids: TriangleIds::new(gpu, "lightwave triangle ids")?,
         })
     }
 
@@ -99,7 +72,7 @@ impl VertexGather {
         vpls: &Buffer,
         per_light: u32,
     ) -> GpuResult<()> {
-        self.fit_views(rec.gpu(), ctx.views)?;
+        self.triangle_ids.fit_views(rec.gpu(), ctx.views)?;
         rec.compute(&ComputePass {
             name: "lightwave vertex gather",
             pipeline: &self.gather,
@@ -127,22 +100,7 @@ impl VertexGather {
 
     /// Draw the triangle each pixel of view `index` sees.
     pub fn record_view(&self, rec: &mut Recorder, ctx: &FrameContext, index: usize) -> GpuResult<()> {
-        let view = &ctx.views[index];
-        let targets = &self.views[index];
-        rec.raster(&RasterPass {
-            name: "lightwave triangle ids",
-            pipeline: &self.triangle_ids,
-            bindings: &[
-                Binding::read(RASTER_VERTICES, &ctx.scene.vertices),
-                Binding::read(RASTER_TRIANGLES, &ctx.scene.triangles),
-            ],
-            push: &TriangleIdsPush {
-                view_projection: view.eye.view_projection.to_cols_array_2d(),
-            },
-            color: &[(&targets.ids, 0, [0.0; 4])],
-            depth: Some((&targets.depth, 0)),
-            vertex_count: ctx.scene.vertex_count,
-        })
+        self.triangle_ids.record_view(rec, ctx, index)
     }
 
     /// What the interpolation reads for view `index`, besides the shared gather bindings.
@@ -152,7 +110,7 @@ impl VertexGather {
             Binding::read(ids::GATHER_TRIANGLES, &ctx.scene.triangles),
             Binding::read(ids::GATHER_VERTEX_NORMALS, &self.normals),
             Binding::read(ids::GATHER_VERTEX_VALUES, &self.values),
-            Binding::image_read(ids::GATHER_TRIANGLE_IDS, &self.views[index].ids),
+            Binding::image_read(ids::GATHER_TRIANGLE_IDS, self.triangle_ids.image(index)),
         ]
     }
 
@@ -161,38 +119,5 @@ impl VertexGather {
         let bytes = gpu.read_buffer(&self.values)?;
         let count = (self.vertex_count * self.light_count) as usize;
         Ok(bytemuck::cast_slice::<u8, [f32; 2]>(&bytes)[..count].to_vec())
-    }
-
-    /// A triangle image per view, of the view's size.
-    fn fit_views(&mut self, gpu: &Gpu, views: &[View]) -> GpuResult<()> {
-        let fits = |t: &TriangleIds, v: &View| {
-            (t.ids.extent.width, t.ids.extent.height) == (v.width(), v.height())
-        };
-        if self.views.len() == views.len() && self.views.iter().zip(views).all(|(t, v)| fits(t, v)) {
-            return Ok(());
-        }
-        // Images of the old size may still be in flight.
-        gpu.wait_idle()?;
-        self.views = views
-            .iter()
-            .map(|v| {
-                let image = |name, format, usage| {
-                    gpu.create_image(&ImageDesc::new_2d(name, format, v.width(), v.height(), usage))
-                };
-                Ok(TriangleIds {
-                    ids: image(
-                        "lightwave triangle ids",
-                        vk::Format::R32_UINT,
-                        vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
-                    )?,
-                    depth: image(
-                        "lightwave triangle depth",
-                        vk::Format::D32_SFLOAT,
-                        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                    )?,
-                })
-            })
-            .collect::<GpuResult<_>>()?;
-        Ok(())
     }
 }

@@ -5,3 +5,4 @@ pub mod bindings;
 pub mod oracle;
 pub mod rsm;
 pub mod sh;
+pub mod triangle_ids;

@@ -108,12 +108,13 @@ fn cornell_box(b: &mut Builder, closed: bool, split: u32) {
         v(265.0, 330.0, 296.0),
         v(314.0, 330.0, 456.0),
         v(472.0, 330.0, 406.0),
-        v(423.0, 0.0, 247.0),
         v(472.0, 0.0, 406.0),
         v(314.0, 0.0, 456.0),
+        v(423.0, 0.0, 247.0),
         v(265.0, 0.0, 296.0),
     ];
-    // The published faces of each block (1-based, as in the OBJ data).
+    // The published faces of each block (1-based, as in the OBJ data; the tall block's
+    // bottom corners are listed in the order that makes the same faces the published ones).
     let faces = [
         [1, 2, 3, 4],
         [5, 4, 3, 6],

@@ -87,6 +87,20 @@ mod tests {
     }
 
     #[test]
+    fn every_quad_of_the_cornell_boxes_is_planar() {
+        // Each quad is two triangles in a row (Builder::quad); a twisted quad (corners listed
+        // out of order, as the tall block's once were) gives them different normals.
+        for name in ["cornell-area", "cornell-area-16", "four-boxes"] {
+            let scene = load(name).unwrap().unwrap();
+            let mesh = &scene.mesh;
+            for t in (0..mesh.triangle_count()).step_by(2) {
+                let (a, b) = (mesh.face_normal(t), mesh.face_normal(t + 1));
+                assert!(a.dot(b) > 0.9999, "{name}: triangles {t}, {}: {a} {b}", t + 1);
+            }
+        }
+    }
+
+    #[test]
     fn the_subdivided_boxes_have_sixteen_and_four_times_the_patches() {
         let count = |name| load(name).unwrap().unwrap().mesh.triangle_count();
         assert_eq!(count("cornell-area-16"), 16 * count("cornell-area"));

@@ -1,5 +1,5 @@
 #version 460
-// The triangle each pixel sees, for the per-vertex gather: the G-buffer's geometry (same
+// The triangle each pixel sees (for methods that look their triangle up): the G-buffer's geometry (same
 // corners, same transform), with the triangle's index passed on.
 #include "common/scene.glsl"
 
