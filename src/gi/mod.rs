@@ -159,4 +159,5 @@ methods! {
     ambient,
     lpv,
     lightwave,
+    radiosity,
 }

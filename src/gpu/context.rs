@@ -704,6 +704,8 @@ fn create_device(
     let enabled = vk::PhysicalDeviceFeatures::default()
         .shader_float64(base.shader_float64 == vk::TRUE)
         .shader_int64(base.shader_int64 == vk::TRUE)
+        // Radiosity's stereographic item buffer clips at the shooter's horizon.
+        .shader_clip_distance(base.shader_clip_distance == vk::TRUE)
         .fragment_stores_and_atomics(base.fragment_stores_and_atomics == vk::TRUE)
         .shader_storage_image_write_without_format(
             base.shader_storage_image_write_without_format == vk::TRUE,

@@ -53,7 +53,12 @@ impl TriangleIds {
     }
 
     /// Draw the triangle each pixel of view `index` sees (after [`TriangleIds::fit_views`]).
-    pub fn record_view(&self, rec: &mut Recorder, ctx: &FrameContext, index: usize) -> GpuResult<()> {
+    pub fn record_view(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        index: usize,
+    ) -> GpuResult<()> {
         let view = &ctx.views[index];
         let targets = &self.views[index];
         rec.raster(&RasterPass {
@@ -82,7 +87,8 @@ impl TriangleIds {
         let fits = |t: &ViewIds, v: &View| {
             (t.ids.extent.width, t.ids.extent.height) == (v.width(), v.height())
         };
-        if self.views.len() == views.len() && self.views.iter().zip(views).all(|(t, v)| fits(t, v)) {
+        if self.views.len() == views.len() && self.views.iter().zip(views).all(|(t, v)| fits(t, v))
+        {
             return Ok(());
         }
         // Images of the old size may still be in flight.
@@ -91,7 +97,13 @@ impl TriangleIds {
             .iter()
             .map(|v| {
                 let image = |format, usage| {
-                    gpu.create_image(&ImageDesc::new_2d(self.name, format, v.width(), v.height(), usage))
+                    gpu.create_image(&ImageDesc::new_2d(
+                        self.name,
+                        format,
+                        v.width(),
+                        v.height(),
+                        usage,
+                    ))
                 };
                 Ok(ViewIds {
                     ids: image(

@@ -95,7 +95,11 @@ mod tests {
             let mesh = &scene.mesh;
             for t in (0..mesh.triangle_count()).step_by(2) {
                 let (a, b) = (mesh.face_normal(t), mesh.face_normal(t + 1));
-                assert!(a.dot(b) > 0.9999, "{name}: triangles {t}, {}: {a} {b}", t + 1);
+                assert!(
+                    a.dot(b) > 0.9999,
+                    "{name}: triangles {t}, {}: {a} {b}",
+                    t + 1
+                );
             }
         }
     }

@@ -1,0 +1,73 @@
+#version 460
+// Form-factor gather into every receiving element (spec 004 pass A4) from one shooting
+// location: back-project the element into the location's item buffer; where it is visible,
+// add the disc-approximation form factor F = a cos θs cos θx / (π r² + a) times the location's
+// unshot radiosity (a light: its intensity toward the element times cos θx / r²) to the
+// element's irradiance, and albedo times that to its unshot radiosity. Emission arriving is
+// direct light, reflected radiosity arriving is indirect light (the display adds only the
+// latter; the rasteriser draws the former).
+#include "gi/radiosity/radiosity.glsl"
+#include "common/math.glsl"
+#include "common/lights.glsl"
+
+layout(local_size_x = LINEAR_WORKGROUP) in;
+
+layout(binding = RAD_ELEMENTS, std430) readonly buffer Elements { Element elements[]; };
+layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
+layout(binding = RAD_SHOT, std430) readonly buffer ShotBuffer { Shot shot; };
+layout(binding = RAD_LOCATIONS, std430) readonly buffer Locations { Location locations[]; };
+layout(binding = RAD_UNSHOT, std430) buffer Unshot { vec4 unshot[]; };
+layout(binding = RAD_DIRECT, std430) buffer Direct { vec4 direct[]; };
+layout(binding = RAD_INDIRECT, std430) buffer Indirect { vec4 indirect[]; };
+layout(binding = RAD_ITEM_IDS, r32ui) readonly uniform uimage2DArray item_ids;
+layout(binding = RAD_ITEM_DISTANCE, r32f) readonly uniform image2DArray item_distance;
+
+layout(push_constant) uniform Push {
+    uint slot;
+    uint element_count;
+    uint hemicube;
+    uint resolution;
+    float bias;      // relative: an element this much behind the nearest surface is still seen
+} pc;
+
+void main() {
+    uint e = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * LINEAR_WORKGROUP + gl_GlobalInvocationID.x;
+    if (e >= pc.element_count) return;
+    Location location = locations[pc.slot];
+    float kind = location.normal_kind.w;
+    if (kind == LOCATION_NONE) return;
+    Element element = elements[e];
+    float area = element.position_area.w;
+    uint surface = floatBitsToUint(element.albedo_surface.w);
+    if (area <= 0.0 || (kind == LOCATION_SURFACE && surface == shot.shooter)) return;
+    vec3 s = location.position_area.xyz;
+    vec3 n_s = location.normal_kind.xyz;
+    vec3 v = element.position_area.xyz - s;
+    float r2 = dot(v, v);
+    if (r2 <= 0.0) return;
+    float r = sqrt(r2);
+    vec3 d = v / r;
+    float cos_s = dot(n_s, d);
+    float cos_x = -dot(surfaces[surface].normal.xyz, d);
+    if (cos_s <= 0.0 || cos_x <= 0.0) return;
+    ivec3 texel = item_texel(d, n_s, pc.hemicube != 0u, pc.resolution);
+    uint seen = imageLoad(item_ids, texel).x;
+    float nearest = imageLoad(item_distance, texel).x;
+    if (seen != surface + 1u && nearest < r * (1.0 - pc.bias) && pc.bias < 1.0) return;
+    vec3 from_emission;
+    vec3 from_reflection;
+    if (kind == LOCATION_LIGHT) {
+        float profile = spot_profile(dot(d, location.reflected.xyz), location.reflected.w,
+                                     location.emitted.w);
+        from_emission = location.emitted.rgb * (profile * cos_x / r2);
+        from_reflection = vec3(0.0);
+    } else {
+        float a = location.position_area.w;
+        float f = a * cos_s * cos_x / (PI * r2 + a);
+        from_emission = location.emitted.rgb * f;
+        from_reflection = location.reflected.rgb * f;
+    }
+    direct[e].rgb += from_emission;
+    indirect[e].rgb += from_reflection;
+    unshot[e].rgb += element.albedo_surface.rgb * (from_emission + from_reflection);
+}

@@ -1,0 +1,361 @@
+//! `radiosity`, seed 004 (Bozalina 2011, spec 004): progressive-refinement radiosity on the
+//! GPU. The scene's polygons (patches) are split into texel elements on each side light can
+//! reach; every shot picks the surface of most unshot power on the GPU, shoots its unshot
+//! radiosity from blocks of its texels through a hemisphere item buffer (the thesis's one-pass
+//! stereographic projection of a subdivided mesh, or a hemicube), and adds the
+//! disc-approximation form factor's share to every visible element. Punctual lights shoot
+//! first, as point emitters. The display adds the elements' indirect irradiance, interpolated
+//! across each polygon, plus the ambient term still to arrive (§4.1.6); the rasteriser draws
+//! the direct light.
+//!
+//! Built: the `pr` mode. The importance-driven (`id`) and perspective-driven (`pd`) modes of
+//! the issue are not built yet (docs/radiosity.md).
+
+pub mod bindings;
+pub mod cpu;
+pub mod elements;
+pub mod solver;
+
+use std::time::Instant;
+
+use crate::error::InputError;
+use crate::gi::registry::{MethodEntry, Setup};
+use crate::gi::settings::{Kind, Setting, Settings};
+use crate::gi::shared::triangle_ids::TriangleIds;
+use crate::gi::{Convergence, FrameContext, GiMethod};
+use crate::gpu::{Binding, Buffer, ComputePass, ComputePipeline, GpuResult, Recorder, Specialization};
+use crate::shaders;
+use bindings as ids;
+use elements::{Density, Elements};
+use solver::{Solver, SolverOptions};
+
+const SETTINGS: &[Setting] = &[
+    Setting::new(
+        "radiosity-mode",
+        Kind::Choice(&["pr"]),
+        "pr",
+        "pr: progressive refinement, the shooter of most unshot power first",
+    ),
+    Setting::new(
+        "elements",
+        Kind::Text,
+        "4096",
+        "Receiving elements: a total budget over the reachable surfaces (e.g. 4096), or a density per unit area (e.g. 2000/area)",
+    ),
+    Setting::new(
+        "hemisphere",
+        Kind::Choice(&["stereographic", "hemicube"]),
+        "stereographic",
+        "The item buffer's projection: the thesis's one-pass stereographic projection of a subdivided mesh, or five hemicube faces",
+    ),
+    Setting::new(
+        "item-buffer",
+        Kind::Int { min: 16, max: 4096 },
+        "256",
+        "Side of the hemisphere item buffer in pixels (of each hemicube face)",
+    ),
+    Setting::new(
+        "item-mesh-level",
+        Kind::Int { min: 0, max: 4 },
+        "2",
+        "1-to-4 subdivisions of the item-buffer mesh (stereographic edges bend; the thesis: 2)",
+    ),
+    Setting::new(
+        "shooting-locations",
+        Kind::Int { min: 1, max: 1024 },
+        "16",
+        "Most shooting locations per shot: a surface shoots from blocks of 2^n x 2^n texels, n as small as keeps within this",
+    ),
+    Setting::new(
+        "radiosity-shots",
+        Kind::Int { min: 0, max: 100_000 },
+        "8",
+        "Shots per frame (0: as many as --budget-ms allows; a fixed count keeps renders reproducible)",
+    ),
+    Setting::new(
+        "budget-ms",
+        Kind::Float {
+            min: 1.0,
+            max: 100_000.0,
+        },
+        "100",
+        "Frame time the shots per frame adapt to when --radiosity-shots is 0",
+    )
+    .keys('-', '=', 10.0),
+    Setting::new(
+        "radiosity-epsilon",
+        Kind::Float { min: 0.0, max: 1.0 },
+        "1e-4",
+        "Converged when no surface has more than this fraction of the most unshot power there was",
+    ),
+    Setting::new(
+        "radiosity-ambient",
+        Kind::Choice(&["on", "off"]),
+        "on",
+        "Show the ambient term of light still unshot (display only, never shot)",
+    ),
+];
+
+/// Shots `render` and `report` run by default: the Cornell boxes converge (ε 1e-4) in 120–200.
+const SETTLE_SHOTS: u32 = 240;
+/// Frames when the shots per frame follow the time budget.
+const SETTLE_FRAMES_BUDGETED: u32 = 200;
+
+pub const METHODS: &[MethodEntry] = &[MethodEntry {
+    name: "radiosity",
+    description: "seed 004: progressive-refinement radiosity on texel elements, shot through a stereographic (or hemicube) item buffer, with the ambient term",
+    default: false,
+    settings: SETTINGS,
+    settle_frames: |settings| match settings.u32("radiosity-shots") {
+        Ok(0) | Err(_) => SETTLE_FRAMES_BUDGETED,
+        Ok(shots) => SETTLE_SHOTS.div_ceil(shots).max(1),
+    },
+    profile_axis: None,
+    create: |setup, settings| Ok(Box::new(Radiosity::new(setup, settings)?)),
+}];
+
+crate::push_constants! {
+    struct DisplayPush {
+        eye: [f32; 4],
+        size: [u32; 2],
+        ambient: u32,
+    }
+}
+
+/// The method's settings, parsed and checked.
+#[derive(Clone, Debug)]
+pub struct RadiositySettings {
+    pub density: Density,
+    pub solver: SolverOptions,
+    /// Shots per frame; None: from the budget.
+    pub shots: Option<u32>,
+    pub budget_ms: f64,
+    pub ambient: bool,
+}
+
+impl RadiositySettings {
+    pub fn parse(settings: &Settings) -> Result<Self, InputError> {
+        let shots = settings.u32("radiosity-shots")?;
+        Ok(RadiositySettings {
+            density: parse_density(settings.text("elements")?)?,
+            solver: SolverOptions {
+                hemicube: settings.text("hemisphere")? == "hemicube",
+                resolution: settings.u32("item-buffer")?,
+                item_level: settings.u32("item-mesh-level")?,
+                locations: settings.u32("shooting-locations")?,
+                epsilon: settings.float("radiosity-epsilon")? as f32,
+            },
+            shots: (shots > 0).then_some(shots),
+            budget_ms: settings.float("budget-ms")?,
+            ambient: settings.text("radiosity-ambient")? == "on",
+        })
+    }
+}
+
+/// Largest element budget: 16M texels (a quarter of a GiB per vec4 buffer).
+const MAX_ELEMENTS: f64 = 16.0 * 1024.0 * 1024.0;
+
+fn parse_density(text: &str) -> Result<Density, InputError> {
+    let bad = || {
+        InputError::new(format!(
+            "--elements {text}: expected a whole number of elements (1 to {MAX_ELEMENTS}) or a density per unit area such as 2000/area"
+        ))
+    };
+    let (number, per_area) = match text.trim().strip_suffix("/area") {
+        Some(n) => (n, true),
+        None => (text.trim(), false),
+    };
+    let value: f64 = number.trim().parse().map_err(|_| bad())?;
+    if !value.is_finite() || value <= 0.0 {
+        return Err(bad());
+    }
+    if per_area {
+        return Ok(Density::PerArea(value));
+    }
+    if value.fract() != 0.0 || value > MAX_ELEMENTS {
+        return Err(bad());
+    }
+    Ok(Density::Budget(value as u32))
+}
+
+pub struct Radiosity {
+    settings: RadiositySettings,
+    pub solver: Solver,
+    triangle_ids: TriangleIds,
+    display: ComputePipeline,
+    triangle_patch: Buffer,
+    patch_surfaces: Buffer,
+    patch_normals: Buffer,
+    /// Shots the next frame records when they follow the budget.
+    budgeted_shots: f64,
+    last_frame: Option<Instant>,
+}
+
+impl Radiosity {
+    pub fn new(setup: &Setup, settings: &Settings) -> anyhow::Result<Radiosity> {
+        Radiosity::with(setup, RadiositySettings::parse(settings)?)
+    }
+
+    pub fn with(setup: &Setup, settings: RadiositySettings) -> anyhow::Result<Radiosity> {
+        let gpu = setup.gpu;
+        let scene = setup.scene;
+        let elements = Elements::bake(scene, settings.density, &|f| {
+            (setup.progress)("baking radiosity elements", f)
+        });
+        if elements.surfaces.is_empty() {
+            return Err(InputError::new(format!(
+                "radiosity: no surface of '{}' can receive light (no light, or every light is enclosed)",
+                scene.name
+            ))
+            .into());
+        }
+        let triangle_patch = gpu.upload_storage_items(
+            "radiosity triangle patches",
+            elements.triangle_patch.len(),
+            |i| elements.triangle_patch[i],
+        )?;
+        let patch_surfaces = gpu.upload_storage_items(
+            "radiosity patch surfaces",
+            elements.patch_surfaces.len(),
+            |i| elements.patch_surfaces[i],
+        )?;
+        let patch_normals = gpu.upload_storage_items(
+            "radiosity patch normals",
+            elements.patches.len(),
+            |i| elements.patches[i].normal.extend(0.0).to_array(),
+        )?;
+        Ok(Radiosity {
+            solver: Solver::new(gpu, scene, elements, settings.solver)?,
+            triangle_ids: TriangleIds::new(gpu, "radiosity triangle ids")?,
+            display: ComputePipeline::new(
+                gpu,
+                "radiosity display",
+                shaders::GI_RADIOSITY_DISPLAY_COMP,
+                &Specialization::new(),
+            )?,
+            triangle_patch,
+            patch_surfaces,
+            patch_normals,
+            budgeted_shots: 1.0,
+            last_frame: None,
+            settings,
+        })
+    }
+
+    /// Shots this frame: as set, or adapted so the frame interval approaches the budget.
+    fn shots_this_frame(&mut self) -> u32 {
+        if let Some(shots) = self.settings.shots {
+            return shots;
+        }
+        let now = Instant::now();
+        if let Some(last) = self.last_frame.replace(now) {
+            let ms = now.duration_since(last).as_secs_f64() * 1e3;
+            let ratio = (self.settings.budget_ms / ms.max(1e-3)).clamp(0.5, 2.0);
+            self.budgeted_shots = (self.budgeted_shots * ratio).clamp(1.0, 4096.0);
+        }
+        self.budgeted_shots.round() as u32
+    }
+}
+
+impl GiMethod for Radiosity {
+    fn name(&self) -> &'static str {
+        "radiosity"
+    }
+
+    fn record_view(&mut self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
+        self.triangle_ids.fit_views(rec.gpu(), ctx.views)?;
+        self.triangle_ids.record_view(rec, ctx, view)
+    }
+
+    fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        let restart = ctx.frame == 0 || ctx.changes.lights;
+        if restart {
+            self.solver.record_restart(rec, ctx.lights)?;
+        } else if self.solver.last_state().converged() {
+            return Ok(());
+        }
+        for _ in 0..self.shots_this_frame() {
+            self.solver.record_shot(rec)?;
+        }
+        self.solver.record_state_copy(rec);
+        Ok(())
+    }
+
+    fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, index: usize) -> GpuResult<()> {
+        let view = &ctx.views[index];
+        let [surfaces, elements, indirect, shot] = self.solver.display_bindings();
+        rec.compute(&ComputePass {
+            name: "radiosity display",
+            pipeline: &self.display,
+            bindings: &[
+                surfaces,
+                elements,
+                indirect,
+                shot,
+                Binding::read(ids::RAD_TRIANGLE_PATCH, &self.triangle_patch),
+                Binding::read(ids::RAD_PATCH_SURFACES, &self.patch_surfaces),
+                Binding::read(ids::RAD_PATCH_NORMALS, &self.patch_normals),
+                Binding::image_read(ids::RAD_TRIANGLE_IDS, self.triangle_ids.image(index)),
+                Binding::image_read(ids::RAD_GBUFFER_POSITION, &view.gbuffer.position),
+                Binding::image_read(ids::RAD_GBUFFER_ALBEDO, &view.gbuffer.albedo),
+                Binding::image_write(ids::RAD_HDR, &view.hdr),
+            ],
+            push: &DisplayPush {
+                eye: view.eye.position.extend(1.0).to_array(),
+                size: [view.width(), view.height()],
+                ambient: u32::from(self.settings.ambient),
+            },
+            threads: [view.width(), view.height(), 1],
+        })
+    }
+
+    fn convergence(&self) -> Option<Convergence> {
+        Some(Convergence {
+            measure: "unshot power",
+            remaining: self.solver.last_state().remaining(),
+        })
+    }
+
+    fn describe(&self) -> Vec<String> {
+        let e = &self.solver.elements;
+        let o = self.solver.options();
+        let state = self.solver.last_state();
+        vec![
+            format!(
+                "radiosity: {} patches, {} surfaces, {} elements on the polygons ({} texels, side {:.4})",
+                e.patches.len(),
+                e.surfaces.len(),
+                e.valid_count(),
+                e.elements.len(),
+                e.texel
+            ),
+            format!(
+                "item buffer: {} {}² (mesh subdivided {}x), up to {} shooting locations per shot",
+                if o.hemicube { "hemicube" } else { "stereographic" },
+                o.resolution,
+                o.item_level,
+                self.solver.slots()
+            ),
+            format!(
+                "shots done: {}, unshot power left: {:.3e} of the most ({})",
+                state.shots(),
+                state.remaining(),
+                if state.converged() { "converged" } else { "refining" }
+            ),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn element_densities_parse_and_bad_ones_are_refused() {
+        assert_eq!(parse_density("4096").unwrap(), Density::Budget(4096));
+        assert_eq!(parse_density("2000/area").unwrap(), Density::PerArea(2000.0));
+        for bad in ["0", "-5", "1.5", "nan", "inf/area", "0/area", "lots", "1e12"] {
+            assert!(parse_density(bad).is_err(), "{bad}");
+        }
+    }
+}

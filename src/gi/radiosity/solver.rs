@@ -1,0 +1,543 @@
+//! Progressive-refinement radiosity on the GPU (spec 004 §4): the element buffers, the item
+//! buffer, and the passes of one shot, recorded without a read-back: the selection pass writes
+//! the shooter into a buffer that every later pass of the shot reads, so a frame can record
+//! many shots and converged shots cost only empty passes.
+
+use ash::vk;
+use glam::Vec3;
+use gpu_allocator::MemoryLocation;
+
+use super::bindings as ids;
+use super::elements::{Elements, NO_SURFACE};
+use crate::gpu::{
+    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
+    RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
+};
+use crate::scene::{Light, LightKind, Scene};
+use crate::shader_shared::LINEAR_WORKGROUP;
+use crate::shaders;
+
+/// How the solver runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverOptions {
+    /// Five perspective faces instead of the thesis's one stereographic pass.
+    pub hemicube: bool,
+    /// Side of the item buffer (each hemicube face).
+    pub resolution: u32,
+    /// 1-to-4 subdivisions of the item-buffer mesh.
+    pub item_level: u32,
+    /// Most shooting locations per shot (each surface shoots from blocks of its texels, as few
+    /// levels up as keep it within this).
+    pub locations: u32,
+    /// Converged once the most unshot power of any surface is below this fraction of the most
+    /// unshot power there was.
+    pub epsilon: f32,
+}
+
+crate::push_constants! {
+    struct StatsPush {
+        surface_count: u32,
+    }
+}
+
+crate::push_constants! {
+    struct SelectPush {
+        reflectance_sum: [f32; 4],
+        surface_count: u32,
+        total_area: f32,
+        epsilon: f32,
+    }
+}
+
+crate::push_constants! {
+    struct ItemPush {
+        slot: u32,
+        face: u32,
+        hemicube: u32,
+        far: f32,
+    }
+}
+
+crate::push_constants! {
+    struct GatherPush {
+        slot: u32,
+        element_count: u32,
+        hemicube: u32,
+        resolution: u32,
+        bias: f32,
+    }
+}
+
+/// An element's distance may exceed the nearest surface's in its item-buffer texel by this
+/// fraction and still count as seen (the texel's footprint on slanted receivers).
+const VISIBILITY_BIAS: f32 = 0.02;
+/// Workgroups along x every device allows.
+const MAX_WORKGROUPS_X: u32 = 65_535;
+
+/// The solver's state as the GPU last left it (see `Shot` in radiosity.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ShotState {
+    pub shooter: u32,
+    pub level: u32,
+    pub blocks: [u32; 2],
+    /// The ambient irradiance still to arrive.
+    pub ambient: [f32; 4],
+    /// Unshot power now, the most there was, the last shooter's, shots done.
+    pub power: [f32; 4],
+}
+
+impl ShotState {
+    pub fn converged(&self) -> bool {
+        self.shooter == NO_SURFACE
+    }
+
+    pub fn shots(&self) -> u32 {
+        self.power[3] as u32
+    }
+
+    /// Unshot power as a fraction of the most there was.
+    pub fn remaining(&self) -> f64 {
+        if self.power[1] > 0.0 {
+            f64::from(self.power[0] / self.power[1])
+        } else {
+            0.0
+        }
+    }
+}
+
+/// GPU surface layout (`Surface` in radiosity.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuSurface {
+    origin_texel: [f32; 4],
+    axis_t_area: [f32; 4],
+    axis_b: [f32; 4],
+    normal: [f32; 4],
+    emission: [f32; 4],
+    grid: [u32; 4],
+}
+
+/// GPU shooting location (`Location` in radiosity.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuLocation {
+    position_area: [f32; 4],
+    normal_kind: [f32; 4],
+    emitted: [f32; 4],
+    reflected: [f32; 4],
+}
+
+const LOCATION_LIGHT: f32 = 2.0;
+
+pub struct Solver {
+    pub elements: Elements,
+    options: SolverOptions,
+    slots: u32,
+    surfaces: Buffer,
+    element_data: Buffer,
+    unshot: Buffer,
+    direct: Buffer,
+    indirect: Buffer,
+    stats: Buffer,
+    emission_unshot: Buffer,
+    shot: Buffer,
+    /// The shot state copied where the CPU can read it without waiting.
+    shot_copy: Buffer,
+    locations: Buffer,
+    item_vertices: Buffer,
+    item_triangles: Buffer,
+    item_vertex_count: u32,
+    item_ids: Image,
+    item_distance: Image,
+    item_depth: Image,
+    stats_pass: ComputePipeline,
+    select_pass: ComputePipeline,
+    locations_pass: ComputePipeline,
+    gather_pass: ComputePipeline,
+    finish_pass: ComputePipeline,
+    item_pass: RasterPipeline,
+    reflectance_sum: Vec3,
+    total_area: f32,
+    far: f32,
+}
+
+impl Solver {
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        elements: Elements,
+        options: SolverOptions,
+    ) -> anyhow::Result<Solver> {
+        let slots = options.locations.max(1);
+        let element_count = elements.elements.len().max(1);
+        let vec4_bytes = element_count as u64 * 16;
+        crate::render::targets::check_buffer(
+            gpu,
+            &format!("radiosity's {element_count} elements"),
+            vec4_bytes * 2,
+        )?;
+        let surface_data: Vec<GpuSurface> = elements
+            .surfaces
+            .iter()
+            .map(|s| {
+                let patch = &elements.patches[s.patch as usize];
+                let mut level = 0;
+                while s.width.div_ceil(1 << level) * s.height.div_ceil(1 << level) > slots {
+                    level += 1;
+                }
+                GpuSurface {
+                    origin_texel: patch.origin.extend(elements.texel).to_array(),
+                    axis_t_area: patch.axis_t.extend(s.area as f32).to_array(),
+                    axis_b: patch.axis_b.extend(0.0).to_array(),
+                    normal: s.normal.extend(0.0).to_array(),
+                    emission: s.emission.extend(0.0).to_array(),
+                    grid: [s.first, s.width, s.height, level],
+                }
+            })
+            .collect();
+        let surfaces = gpu.upload_storage_items("radiosity surfaces", surface_data.len().max(1), |i| {
+            surface_data.get(i).copied().unwrap_or(bytemuck::Zeroable::zeroed())
+        })?;
+        let element_data =
+            gpu.upload_storage_items("radiosity elements", element_count, |i| {
+                let e = elements.elements.get(i).copied().unwrap_or_default();
+                [
+                    e.position.extend(e.area).to_array(),
+                    e.albedo.extend(f32::from_bits(e.surface)).to_array(),
+                ]
+            })?;
+        let (item_vertices, item_triangles) = item_mesh(scene, &elements, options.item_level);
+        let item_vertex_count = item_vertices.len() as u32;
+        let layers = if options.hemicube { 5 } else { 1 };
+        let layered = |name, format, usage| {
+            let mut desc = ImageDesc::new_2d(name, format, options.resolution, options.resolution, usage);
+            desc.layers = layers;
+            desc.array = true;
+            gpu.create_image(&desc)
+        };
+        let storage = |name: &str, bytes: u64| gpu.create_buffer(&BufferDesc::storage(name, bytes.max(16)));
+        let (lo, hi) = scene.mesh.bounds();
+        let compute = |name, spirv| ComputePipeline::new(gpu, name, spirv, &Specialization::new());
+        let surface_count = elements.surfaces.len() as u64;
+        let albedo = elements.mean_albedo().min(Vec3::splat(0.999));
+        Ok(Solver {
+            options,
+            slots,
+            surfaces,
+            element_data,
+            unshot: storage("radiosity unshot", vec4_bytes)?,
+            direct: storage("radiosity direct irradiance", vec4_bytes)?,
+            indirect: storage("radiosity indirect irradiance", vec4_bytes)?,
+            stats: storage("radiosity surface stats", surface_count * 16)?,
+            emission_unshot: storage("radiosity emission unshot", surface_count * 4)?,
+            shot: storage("radiosity shot", std::mem::size_of::<ShotState>() as u64)?,
+            shot_copy: gpu.create_buffer(&BufferDesc {
+                name: "radiosity shot (host copy)",
+                size: std::mem::size_of::<ShotState>() as u64,
+                usage: vk::BufferUsageFlags::TRANSFER_DST,
+                location: MemoryLocation::GpuToCpu,
+            })?,
+            locations: storage(
+                "radiosity locations",
+                u64::from(slots.max(2)) * std::mem::size_of::<GpuLocation>() as u64,
+            )?,
+            item_vertices: gpu.upload_storage_items(
+                "radiosity item-buffer mesh",
+                item_vertices.len().max(3),
+                |i| item_vertices.get(i).copied().unwrap_or_default(),
+            )?,
+            item_triangles: gpu.upload_storage_items(
+                "radiosity item-buffer sides",
+                item_triangles.len().max(1),
+                |i| item_triangles.get(i).copied().unwrap_or_default(),
+            )?,
+            item_vertex_count,
+            item_ids: layered(
+                "radiosity item ids",
+                vk::Format::R32_UINT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
+            )?,
+            item_distance: layered(
+                "radiosity item distance",
+                vk::Format::R32_SFLOAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
+            )?,
+            item_depth: layered(
+                "radiosity item depth",
+                vk::Format::D32_SFLOAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+            )?,
+            stats_pass: compute("radiosity stats", shaders::GI_RADIOSITY_STATS_COMP)?,
+            select_pass: compute("radiosity select", shaders::GI_RADIOSITY_SELECT_COMP)?,
+            locations_pass: compute("radiosity locations", shaders::GI_RADIOSITY_LOCATIONS_COMP)?,
+            gather_pass: compute("radiosity gather", shaders::GI_RADIOSITY_GATHER_COMP)?,
+            finish_pass: compute("radiosity finish", shaders::GI_RADIOSITY_FINISH_COMP)?,
+            item_pass: RasterPipeline::new(
+                gpu,
+                &RasterPipelineDesc {
+                    name: "radiosity item buffer",
+                    vertex: shaders::GI_RADIOSITY_ITEM_BUFFER_VERT,
+                    fragment: Some(shaders::GI_RADIOSITY_ITEM_BUFFER_FRAG),
+                    color_formats: &[vk::Format::R32_UINT, vk::Format::R32_SFLOAT],
+                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth_bias: None,
+                },
+            )?,
+            reflectance_sum: Vec3::ONE / (Vec3::ONE - albedo),
+            total_area: elements.surfaces.iter().map(|s| s.area).sum::<f64>() as f32,
+            far: 4.0 * (hi - lo).length().max(1e-6),
+            elements,
+        })
+    }
+
+    /// Shooting-location slots one shot records.
+    pub fn slots(&self) -> u32 {
+        self.slots
+    }
+
+    pub fn options(&self) -> SolverOptions {
+        self.options
+    }
+
+    /// Forget the solution and start again: clear every element, mark every emitter unshot,
+    /// and shoot the punctual lights (each first, as point emitters).
+    pub fn record_restart(&self, rec: &mut Recorder, lights: &[Light]) -> GpuResult<()> {
+        for buffer in [&self.unshot, &self.direct, &self.indirect, &self.shot] {
+            rec.fill_buffer("radiosity clear", buffer, 0);
+        }
+        rec.fill_buffer("radiosity clear", &self.emission_unshot, 1);
+        for light in lights {
+            let locations = light_locations(light);
+            rec.update_buffer("radiosity light locations", &self.locations, bytemuck::cast_slice(&locations));
+            for slot in 0..locations.len() as u32 {
+                self.record_location(rec, slot)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// One shot: select the shooter, place its locations, draw and gather from each, clear it.
+    pub fn record_shot(&self, rec: &mut Recorder) -> GpuResult<()> {
+        let surface_count = self.elements.surfaces.len() as u32;
+        let columns = surface_count.clamp(1, MAX_WORKGROUPS_X);
+        rec.compute(&ComputePass {
+            name: "radiosity stats",
+            pipeline: &self.stats_pass,
+            bindings: &[
+                Binding::read(ids::RAD_SURFACES, &self.surfaces),
+                Binding::read(ids::RAD_ELEMENTS, &self.element_data),
+                Binding::read(ids::RAD_UNSHOT, &self.unshot),
+                Binding::read(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
+                Binding::write(ids::RAD_STATS, &self.stats),
+            ],
+            push: &StatsPush { surface_count },
+            threads: [columns * LINEAR_WORKGROUP, surface_count.div_ceil(columns).max(1), 1],
+        })?;
+        rec.compute(&ComputePass {
+            name: "radiosity select",
+            pipeline: &self.select_pass,
+            bindings: &[
+                Binding::read(ids::RAD_SURFACES, &self.surfaces),
+                Binding::read(ids::RAD_STATS, &self.stats),
+                Binding::read(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
+                Binding::write(ids::RAD_SHOT, &self.shot),
+            ],
+            push: &SelectPush {
+                reflectance_sum: self.reflectance_sum.extend(0.0).to_array(),
+                surface_count,
+                total_area: self.total_area.max(f32::MIN_POSITIVE),
+                epsilon: self.options.epsilon,
+            },
+            threads: [256, 1, 1],
+        })?;
+        rec.compute(&ComputePass {
+            name: "radiosity locations",
+            pipeline: &self.locations_pass,
+            bindings: &[
+                Binding::read(ids::RAD_SURFACES, &self.surfaces),
+                Binding::read(ids::RAD_ELEMENTS, &self.element_data),
+                Binding::read(ids::RAD_UNSHOT, &self.unshot),
+                Binding::read(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
+                Binding::read(ids::RAD_SHOT, &self.shot),
+                Binding::write(ids::RAD_LOCATIONS, &self.locations),
+            ],
+            push: &(),
+            threads: [self.slots * LINEAR_WORKGROUP, 1, 1],
+        })?;
+        for slot in 0..self.slots {
+            self.record_location(rec, slot)?;
+        }
+        rec.compute(&ComputePass {
+            name: "radiosity finish",
+            pipeline: &self.finish_pass,
+            bindings: &[
+                Binding::read(ids::RAD_SURFACES, &self.surfaces),
+                Binding::read(ids::RAD_SHOT, &self.shot),
+                Binding::write(ids::RAD_UNSHOT, &self.unshot),
+                Binding::write(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
+            ],
+            push: &(),
+            threads: [self.elements.largest_grid(), 1, 1],
+        })
+    }
+
+    /// Copy the shot state where [`Solver::last_state`] reads it.
+    pub fn record_state_copy(&self, rec: &mut Recorder) {
+        rec.copy_buffer("radiosity state copy", &self.shot, &self.shot_copy, self.shot.size);
+        rec.host_read(&self.shot_copy);
+    }
+
+    /// The state as the most recent finished frame left it (without waiting).
+    pub fn last_state(&self) -> ShotState {
+        self.shot_copy
+            .mapped()
+            .ok()
+            .and_then(|bytes| bytemuck::try_pod_read_unaligned(&bytes[..std::mem::size_of::<ShotState>()]).ok())
+            .unwrap_or_default()
+    }
+
+    /// Draw the item buffer of location `slot` and gather from it into every element.
+    fn record_location(&self, rec: &mut Recorder, slot: u32) -> GpuResult<()> {
+        let faces = if self.options.hemicube { 5 } else { 1 };
+        for face in 0..faces {
+            rec.raster(&RasterPass {
+                name: "radiosity item buffer",
+                pipeline: &self.item_pass,
+                bindings: &[
+                    Binding::read(ids::RAD_LOCATIONS, &self.locations),
+                    Binding::read(ids::RAD_ITEM_VERTICES, &self.item_vertices),
+                    Binding::read(ids::RAD_ITEM_TRIANGLES, &self.item_triangles),
+                ],
+                push: &ItemPush {
+                    slot,
+                    face,
+                    hemicube: u32::from(self.options.hemicube),
+                    far: self.far,
+                },
+                color: &[
+                    (&self.item_ids, face, [0.0; 4]),
+                    (&self.item_distance, face, [f32::MAX; 4]),
+                ],
+                depth: Some((&self.item_depth, face)),
+                vertex_count: self.item_vertex_count,
+            })?;
+        }
+        let element_count = self.elements.elements.len() as u32;
+        let groups = element_count.div_ceil(LINEAR_WORKGROUP).max(1);
+        let columns = groups.min(MAX_WORKGROUPS_X);
+        rec.compute(&ComputePass {
+            name: "radiosity gather",
+            pipeline: &self.gather_pass,
+            bindings: &[
+                Binding::read(ids::RAD_ELEMENTS, &self.element_data),
+                Binding::read(ids::RAD_SURFACES, &self.surfaces),
+                Binding::read(ids::RAD_SHOT, &self.shot),
+                Binding::read(ids::RAD_LOCATIONS, &self.locations),
+                Binding::write(ids::RAD_UNSHOT, &self.unshot),
+                Binding::write(ids::RAD_DIRECT, &self.direct),
+                Binding::write(ids::RAD_INDIRECT, &self.indirect),
+                Binding::image_read(ids::RAD_ITEM_IDS, &self.item_ids),
+                Binding::image_read(ids::RAD_ITEM_DISTANCE, &self.item_distance),
+            ],
+            push: &GatherPush {
+                slot,
+                element_count,
+                hemicube: u32::from(self.options.hemicube),
+                resolution: self.options.resolution,
+                bias: VISIBILITY_BIAS,
+            },
+            threads: [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1],
+        })
+    }
+
+    /// What the display reads.
+    pub fn display_bindings(&self) -> [Binding<'_>; 4] {
+        [
+            Binding::read(ids::RAD_SURFACES, &self.surfaces),
+            Binding::read(ids::RAD_ELEMENTS, &self.element_data),
+            Binding::read(ids::RAD_INDIRECT, &self.indirect),
+            Binding::read(ids::RAD_SHOT, &self.shot),
+        ]
+    }
+
+    /// Direct and indirect irradiance per element, read back (waits for the GPU).
+    pub fn read_irradiance(&self, gpu: &Gpu) -> GpuResult<(Vec<Vec3>, Vec<Vec3>)> {
+        let read = |buffer: &Buffer| -> GpuResult<Vec<Vec3>> {
+            let bytes = gpu.read_buffer(buffer)?;
+            Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)[..self.elements.elements.len()]
+                .iter()
+                .map(|v| Vec3::new(v[0], v[1], v[2]))
+                .collect())
+        };
+        Ok((read(&self.direct)?, read(&self.indirect)?))
+    }
+
+    /// The shot state, read back (waits for the GPU).
+    pub fn read_state(&self, gpu: &Gpu) -> GpuResult<ShotState> {
+        let bytes = gpu.read_buffer(&self.shot)?;
+        Ok(bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<ShotState>()]))
+    }
+}
+
+/// A punctual light as one or two hemispheres of shooting locations: a spot (at most 90°)
+/// around its axis, a point light as two opposite hemispheres.
+fn light_locations(light: &Light) -> Vec<GpuLocation> {
+    let (cos_outer, cos_inner) = light.cone_cosines();
+    let axis = light.axis().map_or(Vec3::Y, |a| a.normalize_or(Vec3::Y));
+    let hemispheres: Vec<Vec3> = match light.kind {
+        LightKind::Point => vec![Vec3::Y, -Vec3::Y],
+        _ => vec![axis],
+    };
+    hemispheres
+        .into_iter()
+        .map(|n| GpuLocation {
+            position_area: light.position.extend(1.0).to_array(),
+            normal_kind: n.extend(LOCATION_LIGHT).to_array(),
+            emitted: light.intensity().extend(cos_inner).to_array(),
+            reflected: axis.extend(cos_outer).to_array(),
+        })
+        .collect()
+}
+
+/// Triangles with no edge longer than this fraction of the scene's diagonal are not split
+/// further (their projected edges bend little; a detailed mesh keeps its triangle count).
+const ITEM_SPLIT_EDGE: f32 = 0.05;
+
+/// The item-buffer mesh: every large triangle split 1-to-4 up to `level` times (so the
+/// stereographic projection's straight edges stay close to its curves), each with the surfaces
+/// (+1) of its patch's front and back, `ITEM_UNREACHED` for a side without one.
+fn item_mesh(scene: &Scene, elements: &Elements, level: u32) -> (Vec<[f32; 4]>, Vec<[u32; 4]>) {
+    const ITEM_UNREACHED: u32 = u32::MAX;
+    let (lo, hi) = scene.mesh.bounds();
+    let split_edge = ITEM_SPLIT_EDGE * (hi - lo).length();
+    let large = |[a, b, c]: &[Vec3; 3]| {
+        (b - a).length().max((c - b).length()).max((a - c).length()) > split_edge
+    };
+    let mut vertices = Vec::new();
+    let mut sides = Vec::new();
+    for t in 0..scene.mesh.triangle_count() {
+        let patch = elements.triangle_patch[t] as usize;
+        let id = |s: u32| if s == NO_SURFACE { ITEM_UNREACHED } else { s + 1 };
+        let [front, back] = elements.patch_surfaces[patch].map(id);
+        let mut triangles = vec![scene.mesh.triangle(t)];
+        for _ in 0..level {
+            triangles = triangles
+                .into_iter()
+                .flat_map(|t| {
+                    if !large(&t) {
+                        return vec![t];
+                    }
+                    let [a, b, c] = t;
+                    let (ab, bc, ca) = ((a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5);
+                    vec![[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
+                })
+                .collect();
+        }
+        for corners in triangles {
+            vertices.extend(corners.map(|c| c.extend(1.0).to_array()));
+            sides.push([front, back, 0, 0]);
+        }
+    }
+    (vertices, sides)
+}
