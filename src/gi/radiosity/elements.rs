@@ -15,6 +15,8 @@ const SUBSAMPLES: usize = 4;
 /// Sample points per surface side and rays per point for the reachability test.
 const REACH_POINTS: usize = 12;
 const REACH_RAYS: usize = 12;
+/// Rays from each punctual light that seed the sides it hits.
+const LIGHT_RAYS: usize = 2048;
 
 /// Two triangles, or one, in a plane: what the thesis calls a surface (a polygon of the mesh).
 #[derive(Clone, Debug)]
@@ -435,6 +437,26 @@ fn reachable_sides(
                     let facing_back = mesh.face_normal(hit.triangle).dot(dir) > 0.0;
                     edges[side_index(p, back)].push(side_index(q, facing_back));
                 }
+            }
+        }
+    }
+    // Rays from each punctual light inside its cone seed what it hits (a narrow spot may miss
+    // every sample point above).
+    for light in &scene.lights {
+        let axis = light.axis().map(|a| a.normalize_or(Vec3::Y));
+        let directions = (0..LIGHT_RAYS).map(|k| {
+            let z = 1.0 - 2.0 * (k as f32 + 0.5) / LIGHT_RAYS as f32;
+            let phi = k as f32 * 2.399_963;
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        });
+        for dir in axis.into_iter().chain(directions) {
+            if !matches!(light.kind, LightKind::Point) && light.profile(dir) <= 0.0 {
+                continue;
+            }
+            if let Some(hit) = bvh.intersect(mesh, light.position, dir, 0.0, f32::MAX) {
+                let facing_back = mesh.face_normal(hit.triangle).dot(dir) > 0.0;
+                seeds.push(side_index(triangle_patch[hit.triangle] as usize, facing_back));
             }
         }
     }
