@@ -46,7 +46,7 @@ void main() {
     float r = length(v);
     out_distance = r;
     vec3 t, b;
-    radiosity_frame(n, t, b);
+    orthonormal_basis(n, t, b);
     // Slightly above the horizon, so the shooter's own polygon (coplanar, within rounding) is
     // never drawn over everything it sees.
     gl_ClipDistance[0] = dot(v, n) - pc.far * 1e-6;

@@ -1,6 +1,7 @@
 #ifndef VKGI_RADIOSITY_GLSL
 #define VKGI_RADIOSITY_GLSL
-// Layouts shared by the radiosity passes; the Rust side is src/gi/radiosity/gpu.rs.
+// Layouts shared by the radiosity passes; the Rust side is src/gi/radiosity/solver.rs.
+#include "common/sampling.glsl"
 
 // One side of a patch: a shooter and the owner of a width x height grid of elements.
 struct Surface {
@@ -46,15 +47,6 @@ struct Shot {
 // Item-buffer values: 0 = nothing drawn; a side no light reaches still occludes.
 #define ITEM_UNREACHED 0xffffffffu
 
-// An orthonormal frame around unit n (Duff et al. 2017).
-void radiosity_frame(vec3 n, out vec3 t, out vec3 b) {
-    float s = n.z >= 0.0 ? 1.0 : -1.0;
-    float a = -1.0 / (s + n.z);
-    float c = n.x * n.y * a;
-    t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
-    b = vec3(c, s + n.y * n.y * a, -n.y);
-}
-
 // The hemicube's faces: 0 looks along n, 1-4 along +t, -t, +b, -b (forward, right, up).
 void hemicube_axes(uint face, vec3 n, vec3 t, vec3 b, out vec3 f, out vec3 r, out vec3 u) {
     if (face == 0u) { f = n; r = t; u = b; }
@@ -72,7 +64,7 @@ vec2 stereographic(vec3 d, vec3 n, vec3 t, vec3 b) {
 // Layer and pixel of the item buffer (side `resolution`) that unit direction d falls in.
 ivec3 item_texel(vec3 d, vec3 n, bool hemicube, uint resolution) {
     vec3 t, b;
-    radiosity_frame(n, t, b);
+    orthonormal_basis(n, t, b);
     vec2 ndc;
     uint layer = 0u;
     if (hemicube) {
