@@ -133,8 +133,14 @@ impl Elements {
         let first = self.elements.len() as u32;
         let mut grid = texel_grid(scene, patch, self.texel, width, height, index);
         let contact = contact_distance(scene);
-        for element in grid.iter_mut().filter(|e| e.area > 0.0) {
-            if buried(scene, bvh, element.position, normal, contact) {
+        let buried: Vec<bool> = grid
+            .iter()
+            .map(|e| e.area > 0.0 && buried(scene, bvh, e.position, normal, contact))
+            .collect();
+        // A reached side cannot be buried whole: then its winding, not a solid, fooled the
+        // test (a room whose walls face outward), and every element stays.
+        if grid.iter().zip(&buried).any(|(e, &b)| e.area > 0.0 && !b) {
+            for (element, _) in grid.iter_mut().zip(&buried).filter(|(_, b)| **b) {
                 element.area = 0.0;
             }
         }
