@@ -140,8 +140,8 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
     let rows = report["rows"].as_array().unwrap();
     assert_eq!(
         rows.len(),
-        6,
-        "the ambient baseline, lpv and ilpv at 1 and 2 steps, lightwave"
+        7,
+        "the ambient baseline, lpv and ilpv at 1 and 2 steps, lightwave, radiosity"
     );
     let mut methods_seen = Vec::new();
     for r in rows {
