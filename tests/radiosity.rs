@@ -1,18 +1,22 @@
 //! Radiosity (seed 004) on lavapipe with validation on: the GPU's progressive refinement
 //! against the f64 Gauss–Seidel solve on the same elements, analytic form factors through both
-//! item-buffer projections, energy bounds per shot, and a closed box's closed form.
+//! item-buffer projections, energy bounds per shot, a closed box's closed form, and the
+//! importance- and perspective-driven modes' equivalences with progressive refinement.
 
 mod common;
 
 use glam::{DVec3, Vec3};
+use vkgi::gi::radiosity::camera::{CameraView, MAX_FOV_DEG};
 use vkgi::gi::radiosity::cpu;
 use vkgi::gi::radiosity::elements::{Density, Elements};
-use vkgi::gi::radiosity::solver::{ShotState, Solver, SolverOptions};
+use vkgi::gi::radiosity::solver::{Mode, ShotState, Solver, SolverOptions};
 use vkgi::gpu::Gpu;
+use vkgi::render::targets::Eye;
 use vkgi::scene::{Camera, Material, Mesh, Scene};
 
 fn options(hemicube: bool, locations: u32) -> SolverOptions {
     SolverOptions {
+        mode: Mode::Pr,
         hemicube,
         resolution: 256,
         item_level: 2,
@@ -278,5 +282,200 @@ fn a_closed_uniform_box_converges_to_its_closed_form() {
     let mean = sum / area;
     println!("closed box: mean irradiance {mean:.4}, exact {exact:.4}");
     assert!((mean / exact - 1.0).abs() < 0.04, "{mean} vs {exact}");
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// Run `shots` shots one by one (after whatever `setup` records once); the shooter of each.
+fn shooters(gpu: &Gpu, solver: &Solver, shots: u32) -> Vec<u32> {
+    (0..shots)
+        .map(|_| {
+            gpu.one_shot(|rec| solver.record_shot(rec)).unwrap();
+            solver.read_state(gpu).unwrap().shooter
+        })
+        .collect()
+}
+
+#[test]
+fn with_uniform_importance_id_picks_the_shooters_pr_picks() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell-area").unwrap();
+    let elements = Elements::bake(&scene, Density::Budget(300), &|_| {});
+    let mut picked = Vec::new();
+    for mode in [Mode::Pr, Mode::Id] {
+        let solver = Solver::new(
+            &gpu,
+            &scene,
+            elements.clone(),
+            SolverOptions {
+                mode,
+                ..options(false, 16)
+            },
+        )
+        .unwrap();
+        gpu.one_shot(|rec| {
+            solver.record_restart(rec, &scene.lights)?;
+            solver.record_uniform_importance(rec);
+            Ok(())
+        })
+        .unwrap();
+        picked.push(shooters(&gpu, &solver, 40));
+    }
+    println!("pr: {:?}", picked[0]);
+    assert!(
+        picked[0]
+            .iter()
+            .collect::<std::collections::HashSet<_>>()
+            .len()
+            > 10
+    );
+    assert_eq!(picked[0], picked[1]);
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// A floor, a back wall lower than an emitter over the floor facing down (so nothing reaches the
+/// emitter's top), and a camera in front that
+/// sees every side light reaches.
+fn open_corner() -> Scene {
+    let mut mesh = Mesh::default();
+    let v = Vec3::new;
+    quad(
+        &mut mesh,
+        [v(0., 0., 0.), v(0., 0., 1.), v(1., 0., 1.), v(1., 0., 0.)],
+        0,
+    );
+    quad(
+        &mut mesh,
+        [
+            v(0., 0., 0.),
+            v(1., 0., 0.),
+            v(1., 0.75, 0.),
+            v(0., 0.75, 0.),
+        ],
+        1,
+    );
+    quad(
+        &mut mesh,
+        [
+            v(0.3, 0.8, 0.6),
+            v(0.7, 0.8, 0.6),
+            v(0.7, 0.8, 1.0),
+            v(0.3, 0.8, 1.0),
+        ],
+        2,
+    );
+    let materials = vec![
+        Material::diffuse("floor", Vec3::new(0.7, 0.6, 0.5)),
+        Material::diffuse("wall", Vec3::new(0.3, 0.7, 0.4)),
+        emitter(10.0),
+    ];
+    scene_of(mesh, materials)
+}
+
+fn camera_looking_at(scene: &Scene, target: Vec3, vfov_deg: f32) -> CameraView {
+    let camera = Camera {
+        position: Vec3::new(0.5, 0.4, 3.0),
+        target,
+        up: Vec3::Y,
+        vfov_deg,
+    };
+    CameraView::of(&Eye {
+        view_projection: camera.view_projection(4.0 / 3.0, scene.bounds_min, scene.bounds_max),
+        position: camera.position,
+    })
+}
+
+/// Shots in the id or pd mode with `camera` steering; pd's simulated view is `simulated`
+/// first and the widest after `widen_after` shots. The shooters of 60 shots, the irradiance,
+/// and which surfaces the first simulated view held.
+fn view_driven(
+    gpu: &Gpu,
+    scene: &Scene,
+    elements: &Elements,
+    mode: Mode,
+    camera: &CameraView,
+    simulated: &CameraView,
+    widen_after: u32,
+) -> (Vec<u32>, Vec<DVec3>, Vec<bool>) {
+    const SHOTS: u32 = 60;
+    let solver = Solver::new(
+        gpu,
+        scene,
+        elements.clone(),
+        SolverOptions {
+            mode,
+            ..options(false, 16)
+        },
+    )
+    .unwrap();
+    gpu.one_shot(|rec| {
+        solver.record_restart(rec, &scene.lights)?;
+        solver.record_camera_importance(rec, camera)?;
+        solver.record_visibility(rec, simulated, 1)
+    })
+    .unwrap();
+    let first_view = solver.read_visible(gpu).unwrap();
+    let mut picked = shooters(gpu, &solver, widen_after);
+    gpu.one_shot(|rec| {
+        solver.record_visibility(rec, &camera.widened(MAX_FOV_DEG), 2)?;
+        solver.record_deliveries(rec, 64)
+    })
+    .unwrap();
+    picked.extend(shooters(gpu, &solver, SHOTS - widen_after));
+    let (direct, indirect) = solver.read_irradiance(gpu).unwrap();
+    (picked, total(&direct, &indirect), first_view)
+}
+
+#[test]
+fn pd_seeing_everything_equals_id_and_pd_seeing_part_converges_to_it() {
+    let gpu = common::gpu();
+    let scene = open_corner();
+    let elements = Elements::bake(&scene, Density::Budget(400), &|_| {});
+    assert_eq!(
+        elements.surfaces.len(),
+        3,
+        "floor, wall and emitter are reached"
+    );
+    let camera = camera_looking_at(&scene, Vec3::new(0.5, 0.4, 0.3), 40.0);
+    let wide = camera.widened(MAX_FOV_DEG);
+    let run = |mode, simulated: &CameraView, widen_after| {
+        view_driven(
+            &gpu,
+            &scene,
+            &elements,
+            mode,
+            &camera,
+            simulated,
+            widen_after,
+        )
+    };
+    let (id_shooters, id, _) = run(Mode::Id, &wide, 30);
+    let (pd_shooters, pd, everything) = run(Mode::Pd, &wide, 30);
+    assert_eq!(everything, [true; 3], "the widest view holds every surface");
+    assert_eq!(id_shooters, pd_shooters);
+    let same = relative_error(&elements, &pd, &id);
+    println!("pd at {MAX_FOV_DEG} deg against id: relative error {same:.1e}");
+    assert!(same < 1e-10, "{same}");
+
+    // Narrow, on the wall alone: the floor's and emitter's share waits in the table until the
+    // view widens, and then the solution converges to id's all the same.
+    let narrow = camera_looking_at(&scene, Vec3::new(0.5, 0.6, 0.0), 10.0);
+    let (narrow_shooters, pd_narrow, part) = run(Mode::Pd, &narrow, 20);
+    println!("id shooters {id_shooters:?}\npd from a narrow view {narrow_shooters:?}");
+    assert_ne!(
+        narrow_shooters, id_shooters,
+        "the narrow view changes the order"
+    );
+    let wall = elements
+        .surfaces
+        .iter()
+        .position(|s| s.normal.z > 0.5)
+        .unwrap();
+    let in_view: Vec<usize> = (0..3).filter(|&s| part[s]).collect();
+    assert_eq!(in_view, [wall], "only the wall is in the narrow view");
+    let converged = relative_error(&elements, &pd_narrow, &id);
+    println!(
+        "pd from a 10 deg view, widened after 20 shots, against id: relative error {converged:.1e}"
+    );
+    assert!(converged < 1e-3, "{converged}");
     common::assert_no_validation_errors(&gpu);
 }

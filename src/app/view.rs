@@ -694,6 +694,9 @@ impl Running {
         if let Some(c) = self.technique.as_ref().and_then(|t| t.convergence()) {
             lines.push(format!("{} {:.1E}", c.measure, c.remaining).to_uppercase());
         }
+        if let Some(status) = self.technique.as_ref().and_then(|t| t.status()) {
+            lines.push(status.to_uppercase());
+        }
         let passes = self.recent_pass_ms();
         lines.extend(
             passes

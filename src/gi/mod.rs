@@ -144,6 +144,11 @@ pub trait GiMethod {
 
     /// Lines for the profile: how the method runs (lattice, kernels, cache sizes...).
     fn describe(&self) -> Vec<String>;
+
+    /// One line of live state for the viewer's overlay (e.g. shots done, power left).
+    fn status(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Declares each method's module and registers its entries: one line per method.

@@ -5,7 +5,10 @@
 // unshot radiosity (a light: its intensity toward the element times cos θx / r²) to the
 // element's irradiance, and albedo times that to its unshot radiosity. Emission arriving is
 // direct light, reflected radiosity arriving is indirect light (the display adds only the
-// latter; the rasteriser draws the former).
+// latter; the rasteriser draws the former). An importance shot adds the receiver's mean albedo
+// times F times the location's unshot importance to its total and unshot importance (pass B2).
+// pd: receivers out of the simulated view are skipped (the table keeps their share), and a
+// delivery shoots each receiver's own table entry of the delivered column (§6.5).
 #include "gi/radiosity/radiosity.glsl"
 #include "common/math.glsl"
 #include "common/lights.glsl"
@@ -19,6 +22,11 @@ layout(binding = RAD_LOCATIONS, std430) readonly buffer Locations { Location loc
 layout(binding = RAD_UNSHOT, std430) buffer Unshot { vec4 unshot[]; };
 layout(binding = RAD_DIRECT, std430) buffer Direct { vec4 direct[]; };
 layout(binding = RAD_INDIRECT, std430) buffer Indirect { vec4 indirect[]; };
+layout(binding = RAD_IMPORTANCE, std430) buffer Importance { float importance[]; };
+layout(binding = RAD_IMPORTANCE_UNSHOT, std430) buffer ImportanceUnshot { float importance_unshot[]; };
+layout(binding = RAD_VISIBLE, std430) readonly buffer Visible { uint visible[]; };
+layout(binding = RAD_TABLE, std430) readonly buffer Table { TableEntry table[]; };
+layout(binding = RAD_DELIVERY, std430) readonly buffer DeliveryBuffer { Delivery delivery; };
 layout(binding = RAD_ITEM_IDS, r32ui) readonly uniform uimage2DArray item_ids;
 layout(binding = RAD_ITEM_DISTANCE, r32f) readonly uniform image2DArray item_distance;
 
@@ -28,6 +36,9 @@ layout(push_constant) uniform Push {
     uint hemicube;
     uint resolution;
     float bias;      // relative: an element this much behind the nearest surface is still seen
+    uint quantity;   // QUANTITY_*
+    uint flags;      // GATHER_*
+    uint surface_count;
 } pc;
 
 void main() {
@@ -39,7 +50,17 @@ void main() {
     Element element = elements[e];
     float area = element.position_area.w;
     uint surface = floatBitsToUint(element.albedo_surface.w);
-    if (area <= 0.0 || (kind == LOCATION_SURFACE && surface == shot.shooter)) return;
+    bool deliver = (pc.flags & GATHER_DELIVER) != 0u;
+    if (area <= 0.0 || (!deliver && kind == LOCATION_SURFACE && surface == shot.shooter)) return;
+    bool restricted = (pc.flags & (GATHER_RESTRICT | GATHER_DELIVER)) != 0u && kind == LOCATION_SURFACE;
+    if (restricted && visible[surface] == 0u) return;
+    if (deliver) {
+        if (delivery.column == NO_COLUMN) return;
+        TableEntry entry = table[delivery.column * pc.surface_count + surface];
+        if (entry.emitted.rgb == vec3(0.0) && entry.reflected.rgb == vec3(0.0)) return;
+        location.emitted.rgb = entry.emitted.rgb;
+        location.reflected.rgb = entry.reflected.rgb;
+    }
     vec3 s = location.position_area.xyz;
     vec3 n_s = location.normal_kind.xyz;
     vec3 v = element.position_area.xyz - s;
@@ -56,6 +77,14 @@ void main() {
     if (seen != surface + 1u && nearest < r * (1.0 - pc.bias) && pc.bias < 1.0) return;
     vec3 from_emission;
     vec3 from_reflection;
+    if (pc.quantity == QUANTITY_IMPORTANCE) {
+        float a = location.position_area.w;
+        float f = a * cos_s * cos_x / (PI * r2 + a);
+        float received = mean3(element.albedo_surface.rgb) * location.reflected.x * f;
+        importance[e] += received;
+        importance_unshot[e] += received;
+        return;
+    }
     if (kind == LOCATION_LIGHT) {
         float profile = spot_profile(dot(d, location.reflected.xyz), location.reflected.w,
                                      location.emitted.w);

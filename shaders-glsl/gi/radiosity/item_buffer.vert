@@ -2,17 +2,24 @@
 // The hemisphere item buffer of one shooting location (spec 004 pass A3): the subdivided
 // item-buffer mesh seen from the location, by the thesis's stereographic projection in one pass
 // (face 0 of layer 0), or as one face of a hemicube. Each triangle carries the surface (side of
-// its patch) that faces the location; the horizon is a clip plane.
+// its patch) that faces the location; the horizon is a clip plane. In camera mode (id, pd) it is
+// the user's camera (or its wider simulated field of view) instead, through `camera`.
 #include "gi/radiosity/radiosity.glsl"
 
 layout(binding = RAD_LOCATIONS, std430) readonly buffer Locations { Location locations[]; };
 layout(binding = RAD_ITEM_VERTICES, std430) readonly buffer ItemVertices { vec4 item_vertices[]; };
 layout(binding = RAD_ITEM_TRIANGLES, std430) readonly buffer ItemTriangles { uvec4 item_triangles[]; };
 
+#define ITEM_STEREOGRAPHIC 0u
+#define ITEM_HEMICUBE 1u
+#define ITEM_CAMERA 2u
+
 layout(push_constant) uniform Push {
+    mat4 camera;     // camera mode: world to clip
+    vec4 eye;        // camera mode: xyz
     uint slot;
     uint face;       // hemicube face 0-4
-    uint hemicube;   // 0: stereographic
+    uint projection; // ITEM_*
     float far;       // distances are stored as distance / far in depth
 } pc;
 
@@ -28,6 +35,10 @@ void main() {
     Location location = locations[pc.slot];
     uint triangle = gl_VertexIndex / 3u;
     vec3 p = item_vertices[gl_VertexIndex].xyz;
+    if (pc.projection == ITEM_CAMERA) {
+        location.position_area = vec4(pc.eye.xyz, 0.0);
+        location.normal_kind.w = LOCATION_SURFACE;
+    }
     if (location.normal_kind.w == LOCATION_NONE) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         gl_ClipDistance[0] = -1.0;
@@ -45,12 +56,17 @@ void main() {
     vec3 v = p - s;
     float r = length(v);
     out_distance = r;
+    if (pc.projection == ITEM_CAMERA) {
+        gl_ClipDistance[0] = 1.0;
+        gl_Position = pc.camera * vec4(p, 1.0);
+        return;
+    }
     vec3 t, b;
     orthonormal_basis(n, t, b);
     // Slightly above the horizon, so the shooter's own polygon (coplanar, within rounding) is
     // never drawn over everything it sees.
     gl_ClipDistance[0] = dot(v, n) - pc.far * 1e-6;
-    if (pc.hemicube == 0u) {
+    if (pc.projection == ITEM_STEREOGRAPHIC) {
         vec3 d = v / max(r, 1e-30);
         gl_Position = vec4(stereographic(d, n, t, b), clamp(r / pc.far, 0.0, 1.0), 1.0);
     } else {

@@ -2,7 +2,8 @@
 // The shooting locations of the selected surface (spec 004 pass A2): block k of 2^level x
 // 2^level texels becomes one disc at the area-weighted centroid, with the block's area and its
 // mean unshot radiosity (the mip-n texel of the thesis, without NPOT mip bias). One workgroup
-// per location slot; slots past the surface's blocks are left empty.
+// per location slot; slots past the surface's blocks are left empty. An importance shot's
+// locations carry the block's mean unshot importance in `reflected.x` and nothing emitted.
 #include "gi/radiosity/radiosity.glsl"
 
 layout(local_size_x = LINEAR_WORKGROUP) in;
@@ -11,8 +12,13 @@ layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfac
 layout(binding = RAD_ELEMENTS, std430) readonly buffer Elements { Element elements[]; };
 layout(binding = RAD_UNSHOT, std430) readonly buffer Unshot { vec4 unshot[]; };
 layout(binding = RAD_EMISSION_UNSHOT, std430) readonly buffer EmissionUnshot { uint emission_unshot[]; };
+layout(binding = RAD_IMPORTANCE_UNSHOT, std430) readonly buffer ImportanceUnshot { float importance_unshot[]; };
 layout(binding = RAD_SHOT, std430) readonly buffer ShotBuffer { Shot shot; };
 layout(binding = RAD_LOCATIONS, std430) writeonly buffer Locations { Location locations[]; };
+
+layout(push_constant) uniform Push {
+    uint quantity;   // QUANTITY_*
+} pc;
 
 shared vec4 position_sum[LINEAR_WORKGROUP];
 shared vec4 unshot_sum[LINEAR_WORKGROUP];
@@ -34,7 +40,9 @@ void main() {
             uint e = surface.grid.x + texel.y * surface.grid.y + texel.x;
             float area = elements[e].position_area.w;
             p += vec4(elements[e].position_area.xyz * area, area);
-            u += vec4(unshot[e].rgb * area, 0.0);
+            u += pc.quantity == QUANTITY_IMPORTANCE
+                ? vec4(importance_unshot[e] * area, 0.0, 0.0, 0.0)
+                : vec4(unshot[e].rgb * area, 0.0);
         }
     }
     position_sum[lane] = p;
@@ -56,7 +64,7 @@ void main() {
         location.emitted = vec4(0.0);
         location.reflected = vec4(0.0);
     } else {
-        bool emits = emission_unshot[shot.shooter] != 0u;
+        bool emits = pc.quantity == QUANTITY_RADIOSITY && emission_unshot[shot.shooter] != 0u;
         location.position_area = vec4(position_sum[0].xyz / area, area);
         location.normal_kind = vec4(surface.normal.xyz, LOCATION_SURFACE);
         location.emitted = vec4(emits ? surface.emission.rgb : vec3(0.0), 0.0);

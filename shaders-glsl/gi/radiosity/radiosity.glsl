@@ -39,6 +39,34 @@ struct Shot {
     uint blocks_y;
     vec4 ambient;        // rgb the ambient irradiance still to arrive (display only)
     vec4 power;          // x unshot power now, y the most there was, z the shooter's, w shots done
+    uvec4 table;         // pd: x table columns waiting for a delivery as of the last pick, y the
+                         // view generation that pick saw
+};
+
+// What a shot carries: unshot radiosity, or unshot importance (the id and pd modes, spec 004
+// pass B2: shot like radiosity, scaled by the receiver's mean albedo).
+#define QUANTITY_RADIOSITY 0u
+#define QUANTITY_IMPORTANCE 1u
+
+// Gather flags (pd, spec 004 §6): receivers outside the simulated field of view are skipped
+// (their share waits in the stored table); a delivery shoots table entries instead.
+#define GATHER_RESTRICT 1u
+#define GATHER_DELIVER 2u
+
+// The stored radiosity table (pd, spec 004 §6.2): column c = shooter x location slots + slot,
+// entry (c, j) the unshot radiosity location c shot while receiver surface j was out of view.
+struct TableEntry {
+    vec4 emitted;        // rgb
+    vec4 reflected;      // rgb
+};
+
+// The column being delivered (pd, §6.5).
+#define NO_COLUMN 0xffffffffu
+struct Delivery {
+    uint column;         // or NO_COLUMN
+    uint pending;        // columns with entries for receivers now in view (this one included)
+    uint generation;     // counts the simulated view's changes (written by the CPU)
+    uint pad;
 };
 
 // A patch side without elements (no light reaches it).

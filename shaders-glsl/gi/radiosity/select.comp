@@ -1,13 +1,22 @@
 #version 460
-// The next shooter: the surface of most unshot power (spec 004 pass A1, a reduction instead of
-// the thesis's 1-pixel depth test), the ambient term still to arrive (§4.1.6, split so the
-// direct part the rasteriser already draws is not counted twice), and the convergence test.
+// The next shooter (spec 004 pass A1, a reduction instead of the thesis's 1-pixel depth test).
+// pr: the surface of most unshot power. id/pd (pass B3): of most importance-weighted power,
+// max I x unshot power, falling back to the most unshot power while no surface with unshot
+// power has importance yet. An importance shot (pass B2): the surface of most |ΔI| x area.
+// A radiosity selection also writes the ambient term still to arrive (§4.1.6, split so the
+// direct part the rasteriser already draws is not counted twice). Converged: no surface has
+// more than epsilon times the most the shot quantity's total ever was.
 #include "gi/radiosity/radiosity.glsl"
+
+#define SELECT_POWER 0u
+#define SELECT_IMPORTANCE_WEIGHTED 1u
+#define SELECT_IMPORTANCE_SHOOTER 2u
 
 layout(local_size_x = 256) in;
 
 layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
 layout(binding = RAD_STATS, std430) readonly buffer Stats { vec4 stats[]; };
+layout(binding = RAD_IMPORTANCE_STATS, std430) readonly buffer ImportanceStats { vec4 importance_stats[]; };
 layout(binding = RAD_EMISSION_UNSHOT, std430) readonly buffer EmissionUnshot { uint emission_unshot[]; };
 layout(binding = RAD_SHOT, std430) buffer ShotBuffer { Shot shot; };
 
@@ -16,39 +25,57 @@ layout(push_constant) uniform Push {
     uint surface_count;
     float total_area;
     float epsilon;         // converged below this fraction of the most unshot power
+    uint mode;             // SELECT_*
 } pc;
 
-shared float best_power[256];
+shared float best_value[256];
 shared uint best_index[256];
+shared float fallback_value[256];
+shared uint fallback_index[256];
 shared vec4 reflected_sum[256];
 shared vec4 emitted_sum[256];
+
+// Whether (value b, index ib) beats (a, ia): larger, or equal with the smaller index.
+bool beats(float b, uint ib, float a, uint ia) {
+    return b > a || (b == a && ib < ia);
+}
 
 void main() {
     uint lane = gl_LocalInvocationID.x;
     float best = -1.0;
     uint index = NO_SHOOTER;
+    float fallback = -1.0;
+    uint fallback_at = NO_SHOOTER;
     vec4 reflected = vec4(0.0);
     vec4 emitted = vec4(0.0);
     for (uint s = lane; s < pc.surface_count; s += 256u) {
         vec4 st = stats[s];
+        vec4 imp = importance_stats[s];
         float area = surfaces[s].axis_t_area.w;
-        reflected += vec4(st.rgb * area, st.w);
+        float power = pc.mode == SELECT_IMPORTANCE_SHOOTER ? imp.z : st.w;
+        float priority = pc.mode == SELECT_IMPORTANCE_WEIGHTED ? imp.y * st.w : power;
+        reflected += vec4(st.rgb * area, power);
         if (emission_unshot[s] != 0u) emitted.rgb += surfaces[s].emission.rgb * area;
-        if (st.w > best) { best = st.w; index = s; }
+        if (beats(priority, s, best, index)) { best = priority; index = s; }
+        if (beats(power, s, fallback, fallback_at)) { fallback = power; fallback_at = s; }
     }
-    best_power[lane] = best;
+    best_value[lane] = best;
     best_index[lane] = index;
+    fallback_value[lane] = fallback;
+    fallback_index[lane] = fallback_at;
     reflected_sum[lane] = reflected;
     emitted_sum[lane] = emitted;
     barrier();
     for (uint stride = 128u; stride > 0u; stride /= 2u) {
         if (lane < stride) {
             uint other = lane + stride;
-            bool wins = best_power[other] > best_power[lane]
-                || (best_power[other] == best_power[lane] && best_index[other] < best_index[lane]);
-            if (wins) {
-                best_power[lane] = best_power[other];
+            if (beats(best_value[other], best_index[other], best_value[lane], best_index[lane])) {
+                best_value[lane] = best_value[other];
                 best_index[lane] = best_index[other];
+            }
+            if (beats(fallback_value[other], fallback_index[other], fallback_value[lane], fallback_index[lane])) {
+                fallback_value[lane] = fallback_value[other];
+                fallback_index[lane] = fallback_index[other];
             }
             reflected_sum[lane] += reflected_sum[other];
             emitted_sum[lane] += emitted_sum[other];
@@ -58,16 +85,21 @@ void main() {
     if (lane != 0u) return;
     float total = reflected_sum[0].w;
     float most = max(shot.power.y, total);
-    bool shoots = best_index[0] != NO_SHOOTER && best_power[0] > 0.0
-        && best_power[0] > pc.epsilon * most;
-    vec3 r = pc.reflectance_sum.rgb;
-    vec3 ambient = (r * reflected_sum[0].rgb + (r - 1.0) * emitted_sum[0].rgb) / pc.total_area;
-    shot.ambient = vec4(ambient, 0.0);
-    shot.power = vec4(total, most, shoots ? best_power[0] : 0.0, shot.power.w + (shoots ? 1.0 : 0.0));
+    bool shoots = fallback_index[0] != NO_SHOOTER && fallback_value[0] > 0.0
+        && fallback_value[0] > pc.epsilon * most;
+    uint chosen = best_value[0] > 0.0 ? best_index[0] : fallback_index[0];
+    if (pc.mode != SELECT_IMPORTANCE_SHOOTER) {
+        vec3 r = pc.reflectance_sum.rgb;
+        vec3 ambient = (r * reflected_sum[0].rgb + (r - 1.0) * emitted_sum[0].rgb) / pc.total_area;
+        shot.ambient = vec4(ambient, 0.0);
+    }
+    float shooter_power = shoots ? stats[chosen].w : 0.0;
+    if (pc.mode == SELECT_IMPORTANCE_SHOOTER && shoots) shooter_power = importance_stats[chosen].z;
+    shot.power = vec4(total, most, shooter_power, shot.power.w + (shoots ? 1.0 : 0.0));
     if (shoots) {
-        Surface surface = surfaces[best_index[0]];
+        Surface surface = surfaces[chosen];
         uint side = 1u << surface.grid.w;
-        shot.shooter = best_index[0];
+        shot.shooter = chosen;
         shot.level = surface.grid.w;
         shot.blocks_x = (surface.grid.y + side - 1u) / side;
         shot.blocks_y = (surface.grid.z + side - 1u) / side;

@@ -8,13 +8,17 @@
 //! across each polygon, plus the ambient term still to arrive (§4.1.6); the rasteriser draws
 //! the direct light.
 //!
-//! Built: the `pr` mode. The importance-driven (`id`) and perspective-driven (`pd`) modes of
-//! the issue are not built yet (docs/radiosity.md).
+//! Three modes (`--radiosity-mode`): `pr`, progressive refinement; `id`, importance-driven
+//! (importance shot from the user's camera weights the shooter choice, §5); `pd`,
+//! perspective-driven (as `id`, and surfaces out of the simulated view, which widens by 5° every
+//! `--pd-decay-shots` shots, wait in a stored table until they come into view, §6).
 
 pub mod bindings;
+pub mod camera;
 pub mod cpu;
 pub mod elements;
 pub mod solver;
+pub mod table;
 
 use std::time::Instant;
 
@@ -27,15 +31,24 @@ use crate::gpu::{Binding, Buffer, ComputePass, ComputePipeline, GpuResult, Recor
 use crate::shaders;
 use bindings as ids;
 use elements::{Density, Elements};
-use solver::{Solver, SolverOptions};
+use camera::{CameraView, SimulatedView};
+use solver::{Mode, Solver, SolverOptions};
 
 const SETTINGS: &[Setting] = &[
     Setting::new(
         "radiosity-mode",
-        Kind::Choice(&["pr"]),
+        Kind::Choice(Mode::NAMES),
         "pr",
-        "pr: progressive refinement, the shooter of most unshot power first",
-    ),
+        "pr: progressive refinement, the most unshot power first; id: importance-driven, weighted by importance from the camera; pd: perspective-driven, id with receivers limited to a simulated view that widens",
+    )
+    .keys('[', ']', 1.0),
+    Setting::new(
+        "pd-decay-shots",
+        Kind::Int { min: 1, max: 1_000_000 },
+        "40",
+        "pd: shots between the simulated view's 5-degree widenings (the thesis's decay constant, counted in shots so renders repeat)",
+    )
+    .keys(',', '.', 10.0),
     Setting::new(
         "elements",
         Kind::Text,
@@ -126,6 +139,7 @@ crate::push_constants! {
 #[derive(Clone, Debug)]
 pub struct RadiositySettings {
     pub density: Density,
+    pub decay_shots: u32,
     pub solver: SolverOptions,
     /// Shots per frame; None: from the budget.
     pub shots: Option<u32>,
@@ -136,9 +150,14 @@ pub struct RadiositySettings {
 impl RadiositySettings {
     pub fn parse(settings: &Settings) -> Result<Self, InputError> {
         let shots = settings.u32("radiosity-shots")?;
+        let mode = settings.text("radiosity-mode")?;
         Ok(RadiositySettings {
             density: parse_density(settings.text("elements")?)?,
+            decay_shots: settings.u32("pd-decay-shots")?,
             solver: SolverOptions {
+                mode: Mode::parse(mode).ok_or_else(|| {
+                    InputError::new(format!("--radiosity-mode {mode}: not one of pr, id, pd"))
+                })?,
                 hemicube: settings.text("hemisphere")? == "hemicube",
                 resolution: settings.u32("item-buffer")?,
                 item_level: settings.u32("item-mesh-level")?,
@@ -186,6 +205,10 @@ pub struct Radiosity {
     triangle_patch: Buffer,
     patch_surfaces: Buffer,
     patch_normals: Buffer,
+    /// pd's simulated field of view, and whether it changed since the surfaces in it were last
+    /// marked.
+    simulated: SimulatedView,
+    simulated_changed: bool,
     /// Shots the next frame records when they follow the budget.
     budgeted_shots: f64,
     last_frame: Option<Instant>,
@@ -236,6 +259,8 @@ impl Radiosity {
             triangle_patch,
             patch_surfaces,
             patch_normals,
+            simulated: SimulatedView::new(settings.decay_shots),
+            simulated_changed: false,
             budgeted_shots: 1.0,
             last_frame: None,
             settings,
@@ -268,14 +293,45 @@ impl GiMethod for Radiosity {
     }
 
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        let mode = self.settings.solver.mode;
         let restart = ctx.frame == 0 || ctx.changes.lights;
+        let moved = restart || ctx.changes.camera || ctx.changes.views;
+        // The first view's camera steers id and pd (a CAVE's other walls do not).
+        let camera = ctx.views.first().map(|v| CameraView::of(&v.eye));
         if restart {
             self.solver.record_restart(rec, ctx.lights)?;
-        } else if self.solver.last_state().converged() {
+        }
+        if let (true, true, Some(camera)) = (mode.follows_camera(), moved, camera) {
+            self.solver.record_camera_importance(rec, &camera)?;
+            self.simulated.reset(camera.vertical_fov_deg());
+            self.simulated_changed = mode == Mode::Pd;
+        }
+        let state = self.solver.last_state();
+        let settled = match mode {
+            Mode::Pd => {
+                !self.simulated_changed && self.simulated.saturated() && !state.may_deliver(self.simulated.generation)
+            }
+            _ => true,
+        };
+        if !moved && state.converged() && settled {
             return Ok(());
         }
         for _ in 0..self.shots_this_frame() {
+            if let (Mode::Pd, Some(camera)) = (mode, camera) {
+                let generation = self.simulated.generation;
+                if self.simulated_changed && self.simulated.everything {
+                    self.solver.record_visibility_everything(rec, generation)?;
+                } else if self.simulated_changed {
+                    let simulated = camera.widened(self.simulated.fov_deg);
+                    self.solver.record_visibility(rec, &simulated, generation)?;
+                }
+                self.simulated_changed = false;
+                self.solver.record_deliveries(rec, self.solver.slots())?;
+            }
             self.solver.record_shot(rec)?;
+            if mode == Mode::Pd && self.simulated.count_shot() {
+                self.simulated_changed = true;
+            }
         }
         self.solver.record_state_copy(rec);
         Ok(())
@@ -319,7 +375,6 @@ impl GiMethod for Radiosity {
     fn describe(&self) -> Vec<String> {
         let e = &self.solver.elements;
         let o = self.solver.options();
-        let state = self.solver.last_state();
         vec![
             format!(
                 "radiosity: {} patches, {} surfaces, {} elements on the polygons ({} texels, side {:.4})",
@@ -337,12 +392,33 @@ impl GiMethod for Radiosity {
                 self.solver.slots()
             ),
             format!(
-                "shots done: {}, unshot power left: {:.3e} of the most ({})",
-                state.shots(),
-                state.remaining(),
-                if state.converged() { "converged" } else { "refining" }
+                "mode {}: {}",
+                self.settings.solver.mode.name(),
+                self.status().unwrap_or_default()
             ),
         ]
+    }
+
+    fn status(&self) -> Option<String> {
+        let state = self.solver.last_state();
+        let mut line = format!(
+            "{} shots, unshot power {:.2e} of the most ({})",
+            state.shots(),
+            state.remaining(),
+            if state.converged() { "converged" } else { "refining" }
+        );
+        if self.settings.solver.mode == Mode::Pd {
+            let view = if self.simulated.everything {
+                "every surface".to_string()
+            } else {
+                format!("{:.0} deg", self.simulated.fov_deg)
+            };
+            line += &format!(
+                ", simulated view {view}, {} table columns to deliver",
+                state.table[0]
+            );
+        }
+        Some(line)
     }
 }
 

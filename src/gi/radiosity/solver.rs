@@ -1,14 +1,19 @@
-//! Progressive-refinement radiosity on the GPU (spec 004 §4): the element buffers, the item
-//! buffer, and the passes of one shot, recorded without a read-back: the selection pass writes
-//! the shooter into a buffer that every later pass of the shot reads, so a frame can record
-//! many shots and converged shots cost only empty passes.
+//! Radiosity on the GPU (spec 004): the element buffers, the item buffer, and the passes of one
+//! shot, recorded without a read-back: the selection pass writes the shooter into a buffer that
+//! every later pass of the shot reads, so a frame can record many shots and converged shots
+//! cost only empty passes. Progressive refinement (§4) shoots the most unshot power first; the
+//! importance-driven mode (§5) also shoots importance from the user's camera and weights the
+//! choice by it; the perspective-driven mode (§6) also keeps the share of receivers out of the
+//! simulated view in a stored table ([`StoredTable`]) until they come into view.
 
 use ash::vk;
 use glam::Vec3;
 use gpu_allocator::MemoryLocation;
 
 use super::bindings as ids;
+use super::camera::CameraView;
 use super::elements::{Elements, NO_SURFACE};
+use super::table::StoredTable;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
     RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
@@ -17,9 +22,43 @@ use crate::scene::{Light, LightKind, Scene};
 use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
 
+/// Which surfaces shoot first, and which receive (spec 004 §4–6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// Progressive refinement: the most unshot power first.
+    Pr,
+    /// Importance-driven: the most importance-weighted unshot power first.
+    Id,
+    /// Perspective-driven: as `Id`, and only surfaces in the simulated view receive.
+    Pd,
+}
+
+impl Mode {
+    pub const NAMES: &'static [&'static str] = &["pr", "id", "pd"];
+
+    pub fn parse(name: &str) -> Option<Mode> {
+        match name {
+            "pr" => Some(Mode::Pr),
+            "id" => Some(Mode::Id),
+            "pd" => Some(Mode::Pd),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        Mode::NAMES[self as usize]
+    }
+
+    /// Whether the user's camera steers it.
+    pub fn follows_camera(self) -> bool {
+        self != Mode::Pr
+    }
+}
+
 /// How the solver runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverOptions {
+    pub mode: Mode,
     /// Five perspective faces instead of the thesis's one stereographic pass.
     pub hemicube: bool,
     /// Side of the item buffer (each hemicube face).
@@ -46,15 +85,24 @@ crate::push_constants! {
         surface_count: u32,
         total_area: f32,
         epsilon: f32,
+        mode: u32,
     }
 }
 
 crate::push_constants! {
     struct ItemPush {
+        camera: [[f32; 4]; 4],
+        eye: [f32; 4],
         slot: u32,
         face: u32,
-        hemicube: u32,
+        projection: u32,
         far: f32,
+    }
+}
+
+crate::push_constants! {
+    struct QuantityPush {
+        quantity: u32,
     }
 }
 
@@ -65,8 +113,41 @@ crate::push_constants! {
         hemicube: u32,
         resolution: u32,
         bias: f32,
+        quantity: u32,
+        flags: u32,
+        surface_count: u32,
     }
 }
+
+crate::push_constants! {
+    struct ViewPush {
+        camera: [[f32; 4]; 4],
+        eye: [f32; 4],
+        forward: [f32; 4],
+        element_count: u32,
+        resolution: u32,
+        bias: f32,
+        scale: f32,
+        flags: u32,
+    }
+}
+
+/// `SELECT_*` in select.comp.
+const SELECT_POWER: u32 = 0;
+const SELECT_IMPORTANCE_WEIGHTED: u32 = 1;
+const SELECT_IMPORTANCE_SHOOTER: u32 = 2;
+/// `ITEM_*` in item_buffer.vert.
+const ITEM_STEREOGRAPHIC: u32 = 0;
+const ITEM_HEMICUBE: u32 = 1;
+const ITEM_CAMERA: u32 = 2;
+/// `QUANTITY_*` and `GATHER_*` in radiosity.glsl.
+const QUANTITY_RADIOSITY: u32 = 0;
+const QUANTITY_IMPORTANCE: u32 = 1;
+const GATHER_RESTRICT: u32 = 1;
+const GATHER_DELIVER: u32 = 2;
+/// `VIEW_*` in view.comp.
+const VIEW_IMPORTANCE: u32 = 1;
+const VIEW_VISIBILITY: u32 = 2;
 
 /// An element's distance may exceed the nearest surface's in its item-buffer texel by this
 /// fraction and still count as seen (the texel's footprint on slanted receivers).
@@ -85,6 +166,9 @@ pub struct ShotState {
     pub ambient: [f32; 4],
     /// Unshot power now, the most there was, the last shooter's, shots done.
     pub power: [f32; 4],
+    /// pd: table columns waiting for a delivery as of the last pick, and the view generation
+    /// that pick saw.
+    pub table: [u32; 4],
 }
 
 impl ShotState {
@@ -94,6 +178,12 @@ impl ShotState {
 
     pub fn shots(&self) -> u32 {
         self.power[3] as u32
+    }
+
+    /// Whether the table may still hold deliveries for the simulated view of `generation`
+    /// (pd): unless a pick in that view found none.
+    pub fn may_deliver(&self, generation: u32) -> bool {
+        self.table[1] != generation || self.table[0] > 0
     }
 
     /// Unshot power as a fraction of the most there was.
@@ -142,6 +232,15 @@ pub struct Solver {
     stats: Buffer,
     emission_unshot: Buffer,
     shot: Buffer,
+    /// Per element: total, unshot and directly received importance (id, pd).
+    importance: Buffer,
+    importance_unshot: Buffer,
+    importance_received: Buffer,
+    importance_stats: Buffer,
+    importance_shot: Buffer,
+    /// Per surface: 1 when in the (simulated) view (pd).
+    visible: Buffer,
+    table: StoredTable,
     /// The shot state copied where the CPU can read it without waiting.
     shot_copy: Buffer,
     locations: Buffer,
@@ -156,10 +255,15 @@ pub struct Solver {
     locations_pass: ComputePipeline,
     gather_pass: ComputePipeline,
     finish_pass: ComputePipeline,
+    view_pass: ComputePipeline,
     item_pass: RasterPipeline,
     reflectance_sum: Vec3,
     total_area: f32,
     far: f32,
+    /// Importance of an element at unit distance on the camera's axis (the thesis's
+    /// importanceEnergyConstant, its value not given): the scene's squared diagonal, so an
+    /// element seen across the scene gets importance of order 1.
+    importance_scale: f32,
 }
 
 impl Solver {
@@ -221,6 +325,8 @@ impl Solver {
         let compute = |name, spirv| ComputePipeline::new(gpu, name, spirv, &Specialization::new());
         let surface_count = elements.surfaces.len() as u64;
         let albedo = elements.mean_albedo().min(Vec3::splat(0.999));
+        let scalar_bytes = element_count as u64 * 4;
+        let table = StoredTable::new(gpu, surface_count as u32, slots, options.mode == Mode::Pd)?;
         Ok(Solver {
             options,
             slots,
@@ -232,6 +338,13 @@ impl Solver {
             stats: storage("radiosity surface stats", surface_count * 16)?,
             emission_unshot: storage("radiosity emission unshot", surface_count * 4)?,
             shot: storage("radiosity shot", std::mem::size_of::<ShotState>() as u64)?,
+            importance: storage("radiosity importance", scalar_bytes)?,
+            importance_unshot: storage("radiosity unshot importance", scalar_bytes)?,
+            importance_received: storage("radiosity received importance", scalar_bytes)?,
+            importance_stats: storage("radiosity importance stats", surface_count * 16)?,
+            importance_shot: storage("radiosity importance shot", std::mem::size_of::<ShotState>() as u64)?,
+            visible: storage("radiosity surfaces in view", surface_count * 4)?,
+            table,
             shot_copy: gpu.create_buffer(&BufferDesc {
                 name: "radiosity shot (host copy)",
                 size: std::mem::size_of::<ShotState>() as u64,
@@ -273,6 +386,7 @@ impl Solver {
             locations_pass: compute("radiosity locations", shaders::GI_RADIOSITY_LOCATIONS_COMP)?,
             gather_pass: compute("radiosity gather", shaders::GI_RADIOSITY_GATHER_COMP)?,
             finish_pass: compute("radiosity finish", shaders::GI_RADIOSITY_FINISH_COMP)?,
+            view_pass: compute("radiosity view", shaders::GI_RADIOSITY_VIEW_COMP)?,
             item_pass: RasterPipeline::new(
                 gpu,
                 &RasterPipelineDesc {
@@ -287,6 +401,7 @@ impl Solver {
             reflectance_sum: Vec3::ONE / (Vec3::ONE - albedo),
             total_area: elements.surfaces.iter().map(|s| s.area).sum::<f64>() as f32,
             far: 4.0 * (hi - lo).length().max(1e-6),
+            importance_scale: (hi - lo).length_squared().max(1e-12),
             elements,
         })
     }
@@ -301,26 +416,116 @@ impl Solver {
     }
 
     /// Forget the solution and start again: clear every element, mark every emitter unshot,
-    /// and shoot the punctual lights (each first, as point emitters).
+    /// forget the importance and the stored table, and shoot the punctual lights (each first,
+    /// as point emitters, to every receiver: the modes steer only the surfaces' shots).
     pub fn record_restart(&self, rec: &mut Recorder, lights: &[Light]) -> GpuResult<()> {
-        for buffer in [&self.unshot, &self.direct, &self.indirect, &self.shot] {
+        for buffer in [
+            &self.unshot,
+            &self.direct,
+            &self.indirect,
+            &self.shot,
+            &self.importance,
+            &self.importance_unshot,
+            &self.importance_received,
+            &self.importance_shot,
+            &self.visible,
+        ] {
             rec.fill_buffer("radiosity clear", buffer, 0);
         }
         rec.fill_buffer("radiosity clear", &self.emission_unshot, 1);
+        self.table.record_clear(rec);
         for light in lights {
             let locations = light_locations(light);
             rec.update_buffer("radiosity light locations", &self.locations, bytemuck::cast_slice(&locations));
             for slot in 0..locations.len() as u32 {
-                self.record_location(rec, slot)?;
+                self.record_location(rec, slot, QUANTITY_RADIOSITY, 0)?;
             }
         }
         Ok(())
     }
 
-    /// One shot: select the shooter, place its locations, draw and gather from each, clear it.
+    /// Importance ≡ 1 on every element, none unshot: the id mode then picks as pr does (the
+    /// equivalence the spec's validation asks for). For tests and comparisons.
+    pub fn record_uniform_importance(&self, rec: &mut Recorder) {
+        rec.fill_buffer("radiosity uniform importance", &self.importance, 1.0f32.to_bits());
+        rec.fill_buffer("radiosity uniform importance", &self.importance_unshot, 0);
+        rec.fill_buffer("radiosity uniform importance", &self.importance_received, 0);
+    }
+
+    /// The camera moved (id, pd): each element's importance received directly from it is
+    /// replaced by what it receives now (pass B1; unseen elements lose theirs).
+    pub fn record_camera_importance(&self, rec: &mut Recorder, camera: &CameraView) -> GpuResult<()> {
+        self.record_view(rec, camera, VIEW_IMPORTANCE)
+    }
+
+    /// The simulated view changed (pd): mark the surfaces in `camera`'s view, and the table
+    /// columns that now have receivers in view.
+    /// `generation` numbers the change, so [`ShotState::may_deliver`] can tell when every
+    /// delivery it made possible is done.
+    pub fn record_visibility(&self, rec: &mut Recorder, camera: &CameraView, generation: u32) -> GpuResult<()> {
+        rec.fill_buffer("radiosity view clear", &self.visible, 0);
+        self.record_view(rec, camera, VIEW_VISIBILITY)?;
+        self.table.record_scan(rec, &self.visible, generation)
+    }
+
+    /// Every surface in view (pd, after the widest simulated view): the whole table is due.
+    pub fn record_visibility_everything(&self, rec: &mut Recorder, generation: u32) -> GpuResult<()> {
+        rec.fill_buffer("radiosity view everything", &self.visible, 1);
+        self.table.record_scan(rec, &self.visible, generation)
+    }
+
+    /// The camera's item buffer, then what its elements see of it.
+    fn record_view(&self, rec: &mut Recorder, camera: &CameraView, flags: u32) -> GpuResult<()> {
+        self.record_item_buffer(rec, 0, 0, ITEM_CAMERA, Some(camera))?;
+        let element_count = self.elements.elements.len() as u32;
+        let groups = element_count.div_ceil(LINEAR_WORKGROUP).max(1);
+        let columns = groups.min(MAX_WORKGROUPS_X);
+        rec.compute(&ComputePass {
+            name: "radiosity view",
+            pipeline: &self.view_pass,
+            bindings: &[
+                Binding::read(ids::RAD_ELEMENTS, &self.element_data),
+                Binding::read(ids::RAD_SURFACES, &self.surfaces),
+                Binding::write(ids::RAD_IMPORTANCE, &self.importance),
+                Binding::write(ids::RAD_IMPORTANCE_UNSHOT, &self.importance_unshot),
+                Binding::write(ids::RAD_IMPORTANCE_RECEIVED, &self.importance_received),
+                Binding::write(ids::RAD_VISIBLE, &self.visible),
+                Binding::image_read(ids::RAD_ITEM_IDS, &self.item_ids),
+                Binding::image_read(ids::RAD_ITEM_DISTANCE, &self.item_distance),
+            ],
+            push: &ViewPush {
+                camera: camera.clip.to_cols_array_2d(),
+                eye: camera.eye.extend(1.0).to_array(),
+                forward: camera.forward.extend(0.0).to_array(),
+                element_count,
+                resolution: self.options.resolution,
+                bias: VISIBILITY_BIAS,
+                scale: self.importance_scale,
+                flags,
+            },
+            threads: [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1],
+        })
+    }
+
+    /// One shot: in the id and pd modes first an importance shot, then the radiosity shot:
+    /// select the shooter, place its locations, (pd) store the share of receivers out of view,
+    /// draw and gather from each location, clear the shooter.
     pub fn record_shot(&self, rec: &mut Recorder) -> GpuResult<()> {
+        let (select, flags) = match self.options.mode {
+            Mode::Pr => (SELECT_POWER, 0),
+            Mode::Id => (SELECT_IMPORTANCE_WEIGHTED, 0),
+            Mode::Pd => (SELECT_IMPORTANCE_WEIGHTED, GATHER_RESTRICT),
+        };
+        if self.options.mode.follows_camera() {
+            self.record_quantity_shot(rec, QUANTITY_IMPORTANCE, SELECT_IMPORTANCE_SHOOTER, 0)?;
+        }
+        self.record_quantity_shot(rec, QUANTITY_RADIOSITY, select, flags)
+    }
+
+    fn record_quantity_shot(&self, rec: &mut Recorder, quantity: u32, select: u32, flags: u32) -> GpuResult<()> {
         let surface_count = self.elements.surfaces.len() as u32;
         let columns = surface_count.clamp(1, MAX_WORKGROUPS_X);
+        let shot = if quantity == QUANTITY_IMPORTANCE { &self.importance_shot } else { &self.shot };
         rec.compute(&ComputePass {
             name: "radiosity stats",
             pipeline: &self.stats_pass,
@@ -329,7 +534,10 @@ impl Solver {
                 Binding::read(ids::RAD_ELEMENTS, &self.element_data),
                 Binding::read(ids::RAD_UNSHOT, &self.unshot),
                 Binding::read(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
+                Binding::read(ids::RAD_IMPORTANCE, &self.importance),
+                Binding::read(ids::RAD_IMPORTANCE_UNSHOT, &self.importance_unshot),
                 Binding::write(ids::RAD_STATS, &self.stats),
+                Binding::write(ids::RAD_IMPORTANCE_STATS, &self.importance_stats),
             ],
             push: &StatsPush { surface_count },
             threads: [columns * LINEAR_WORKGROUP, surface_count.div_ceil(columns).max(1), 1],
@@ -340,14 +548,16 @@ impl Solver {
             bindings: &[
                 Binding::read(ids::RAD_SURFACES, &self.surfaces),
                 Binding::read(ids::RAD_STATS, &self.stats),
+                Binding::read(ids::RAD_IMPORTANCE_STATS, &self.importance_stats),
                 Binding::read(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
-                Binding::write(ids::RAD_SHOT, &self.shot),
+                Binding::write(ids::RAD_SHOT, shot),
             ],
             push: &SelectPush {
                 reflectance_sum: self.reflectance_sum.extend(0.0).to_array(),
                 surface_count,
                 total_area: self.total_area.max(f32::MIN_POSITIVE),
                 epsilon: self.options.epsilon,
+                mode: select,
             },
             threads: [256, 1, 1],
         })?;
@@ -359,27 +569,47 @@ impl Solver {
                 Binding::read(ids::RAD_ELEMENTS, &self.element_data),
                 Binding::read(ids::RAD_UNSHOT, &self.unshot),
                 Binding::read(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
-                Binding::read(ids::RAD_SHOT, &self.shot),
+                Binding::read(ids::RAD_IMPORTANCE_UNSHOT, &self.importance_unshot),
+                Binding::read(ids::RAD_SHOT, shot),
                 Binding::write(ids::RAD_LOCATIONS, &self.locations),
             ],
-            push: &(),
+            push: &QuantityPush { quantity },
             threads: [self.slots * LINEAR_WORKGROUP, 1, 1],
         })?;
+        if flags & GATHER_RESTRICT != 0 {
+            self.table.record_store(rec, shot, &self.locations, &self.visible)?;
+        }
         for slot in 0..self.slots {
-            self.record_location(rec, slot)?;
+            self.record_location_of(rec, shot, slot, quantity, flags)?;
         }
         rec.compute(&ComputePass {
             name: "radiosity finish",
             pipeline: &self.finish_pass,
             bindings: &[
                 Binding::read(ids::RAD_SURFACES, &self.surfaces),
-                Binding::read(ids::RAD_SHOT, &self.shot),
+                Binding::read(ids::RAD_SHOT, shot),
                 Binding::write(ids::RAD_UNSHOT, &self.unshot),
                 Binding::write(ids::RAD_EMISSION_UNSHOT, &self.emission_unshot),
+                Binding::write(ids::RAD_IMPORTANCE_UNSHOT, &self.importance_unshot),
             ],
-            push: &(),
+            push: &QuantityPush { quantity },
             threads: [self.elements.largest_grid(), 1, 1],
         })
+    }
+
+    /// Up to `count` deliveries from the stored table (pd, §6.5): each picks the next column
+    /// with entries for receivers in view, draws its location's item buffer, and shoots each
+    /// such receiver its own entry. A delivery with nothing pending costs only empty passes.
+    pub fn record_deliveries(&self, rec: &mut Recorder, count: u32) -> GpuResult<()> {
+        if self.options.mode != Mode::Pd {
+            return Ok(());
+        }
+        for _ in 0..count {
+            self.table.record_pick(rec, &self.locations, &self.shot)?;
+            self.record_location_of(rec, &self.shot, 0, QUANTITY_RADIOSITY, GATHER_DELIVER)?;
+            self.table.record_spent(rec, &self.visible)?;
+        }
+        Ok(())
     }
 
     /// Copy the shot state where [`Solver::last_state`] reads it.
@@ -398,45 +628,79 @@ impl Solver {
     }
 
     /// Draw the item buffer of location `slot` and gather from it into every element.
-    fn record_location(&self, rec: &mut Recorder, slot: u32) -> GpuResult<()> {
-        let faces = if self.options.hemicube { 5 } else { 1 };
-        for face in 0..faces {
-            rec.raster(&RasterPass {
-                name: "radiosity item buffer",
-                pipeline: &self.item_pass,
-                bindings: &[
-                    Binding::read(ids::RAD_LOCATIONS, &self.locations),
-                    Binding::read(ids::RAD_ITEM_VERTICES, &self.item_vertices),
-                    Binding::read(ids::RAD_ITEM_TRIANGLES, &self.item_triangles),
-                ],
-                push: &ItemPush {
-                    slot,
-                    face,
-                    hemicube: u32::from(self.options.hemicube),
-                    far: self.far,
-                },
-                color: &[
-                    (&self.item_ids, face, [0.0; 4]),
-                    (&self.item_distance, face, [f32::MAX; 4]),
-                ],
-                depth: Some((&self.item_depth, face)),
-                vertex_count: self.item_vertex_count,
-            })?;
+    fn record_location(&self, rec: &mut Recorder, slot: u32, quantity: u32, flags: u32) -> GpuResult<()> {
+        self.record_location_of(rec, &self.shot, slot, quantity, flags)
+    }
+
+    /// The item buffer of `slot`: one stereographic pass, five hemicube faces, or the camera.
+    fn record_item_buffer(
+        &self,
+        rec: &mut Recorder,
+        slot: u32,
+        face: u32,
+        projection: u32,
+        camera: Option<&CameraView>,
+    ) -> GpuResult<()> {
+        rec.raster(&RasterPass {
+            name: "radiosity item buffer",
+            pipeline: &self.item_pass,
+            bindings: &[
+                Binding::read(ids::RAD_LOCATIONS, &self.locations),
+                Binding::read(ids::RAD_ITEM_VERTICES, &self.item_vertices),
+                Binding::read(ids::RAD_ITEM_TRIANGLES, &self.item_triangles),
+            ],
+            push: &ItemPush {
+                camera: camera.map_or([[0.0; 4]; 4], |c| c.clip.to_cols_array_2d()),
+                eye: camera.map_or([0.0; 4], |c| c.eye.extend(1.0).to_array()),
+                slot,
+                face,
+                projection,
+                far: self.far,
+            },
+            color: &[
+                (&self.item_ids, face, [0.0; 4]),
+                (&self.item_distance, face, [f32::MAX; 4]),
+            ],
+            depth: Some((&self.item_depth, face)),
+            vertex_count: self.item_vertex_count,
+        })
+    }
+
+    fn record_location_of(
+        &self,
+        rec: &mut Recorder,
+        shot: &Buffer,
+        slot: u32,
+        quantity: u32,
+        flags: u32,
+    ) -> GpuResult<()> {
+        if self.options.hemicube {
+            for face in 0..5 {
+                self.record_item_buffer(rec, slot, face, ITEM_HEMICUBE, None)?;
+            }
+        } else {
+            self.record_item_buffer(rec, slot, 0, ITEM_STEREOGRAPHIC, None)?;
         }
         let element_count = self.elements.elements.len() as u32;
         let groups = element_count.div_ceil(LINEAR_WORKGROUP).max(1);
         let columns = groups.min(MAX_WORKGROUPS_X);
+        let [table, delivery] = self.table.gather_bindings();
         rec.compute(&ComputePass {
             name: "radiosity gather",
             pipeline: &self.gather_pass,
             bindings: &[
                 Binding::read(ids::RAD_ELEMENTS, &self.element_data),
                 Binding::read(ids::RAD_SURFACES, &self.surfaces),
-                Binding::read(ids::RAD_SHOT, &self.shot),
+                Binding::read(ids::RAD_SHOT, shot),
                 Binding::read(ids::RAD_LOCATIONS, &self.locations),
                 Binding::write(ids::RAD_UNSHOT, &self.unshot),
                 Binding::write(ids::RAD_DIRECT, &self.direct),
                 Binding::write(ids::RAD_INDIRECT, &self.indirect),
+                Binding::write(ids::RAD_IMPORTANCE, &self.importance),
+                Binding::write(ids::RAD_IMPORTANCE_UNSHOT, &self.importance_unshot),
+                Binding::read(ids::RAD_VISIBLE, &self.visible),
+                table,
+                delivery,
                 Binding::image_read(ids::RAD_ITEM_IDS, &self.item_ids),
                 Binding::image_read(ids::RAD_ITEM_DISTANCE, &self.item_distance),
             ],
@@ -446,6 +710,9 @@ impl Solver {
                 hemicube: u32::from(self.options.hemicube),
                 resolution: self.options.resolution,
                 bias: VISIBILITY_BIAS,
+                quantity,
+                flags,
+                surface_count: self.elements.surfaces.len() as u32,
             },
             threads: [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1],
         })
@@ -471,6 +738,15 @@ impl Solver {
                 .collect())
         };
         Ok((read(&self.direct)?, read(&self.indirect)?))
+    }
+
+    /// Which surfaces are in the simulated view (pd), read back (waits for the GPU).
+    pub fn read_visible(&self, gpu: &Gpu) -> GpuResult<Vec<bool>> {
+        let bytes = gpu.read_buffer(&self.visible)?;
+        Ok(bytemuck::cast_slice::<u8, u32>(&bytes)[..self.elements.surfaces.len()]
+            .iter()
+            .map(|&v| v != 0)
+            .collect())
     }
 
     /// The shot state, read back (waits for the GPU).
