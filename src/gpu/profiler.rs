@@ -15,8 +15,10 @@ use super::context::{DeviceShared, Gpu};
 use super::scope::{ScopeTag, Stage};
 use super::{GpuResult, vk_err};
 
-/// Timestamp pairs a frame can hold (passes per frame).
-const SCOPES_PER_FRAME: u32 = 1024;
+/// Timestamp pairs a frame can hold (passes per frame): radiosity's pd mode records about 120
+/// passes per shot (importance shot, radiosity shot and table deliveries, 16 locations each),
+/// so 8 shots a frame need about 1000. A pool of 16 Ki queries is 128 KiB per frame in flight.
+const SCOPES_PER_FRAME: u32 = 8192;
 /// The name of the scope that spans the whole frame.
 pub const FRAME_SCOPE: &str = "frame";
 

@@ -1,8 +1,10 @@
 #version 460
 // The next shooter (spec 004 pass A1, a reduction instead of the thesis's 1-pixel depth test).
 // pr: the surface of most unshot power. id/pd (pass B3): of most importance-weighted power,
-// max I x unshot power, falling back to the most unshot power while no surface with unshot
-// power has importance yet. An importance shot (pass B2): the surface of most |ΔI| x area.
+// max I x unshot power, falling back to the most unshot power when the important surfaces are
+// spent: when no surface's weighted power exceeds epsilon times the most power there was times
+// the largest importance (also while nothing has importance yet). Without the fallback, id
+// would shoot ever smaller amounts in view forever and never light (or converge) the rest. An importance shot (pass B2): the surface of most |ΔI| x area.
 // A radiosity selection also writes the ambient term still to arrive (§4.1.6, split so the
 // direct part the rasteriser already draws is not counted twice). Converged: no surface has
 // more than epsilon times the most the shot quantity's total ever was.
@@ -32,6 +34,7 @@ shared float best_value[256];
 shared uint best_index[256];
 shared float fallback_value[256];
 shared uint fallback_index[256];
+shared float importance_max[256];
 shared vec4 reflected_sum[256];
 shared vec4 emitted_sum[256];
 
@@ -48,6 +51,7 @@ void main() {
     uint fallback_at = NO_SHOOTER;
     vec4 reflected = vec4(0.0);
     vec4 emitted = vec4(0.0);
+    float largest_importance = 0.0;
     for (uint s = lane; s < pc.surface_count; s += 256u) {
         vec4 st = stats[s];
         vec4 imp = importance_stats[s];
@@ -55,6 +59,7 @@ void main() {
         float power = pc.mode == SELECT_IMPORTANCE_SHOOTER ? imp.z : st.w;
         float priority = pc.mode == SELECT_IMPORTANCE_WEIGHTED ? imp.y * st.w : power;
         reflected += vec4(st.rgb * area, power);
+        largest_importance = max(largest_importance, imp.y);
         if (emission_unshot[s] != 0u) emitted.rgb += surfaces[s].emission.rgb * area;
         if (beats(priority, s, best, index)) { best = priority; index = s; }
         if (beats(power, s, fallback, fallback_at)) { fallback = power; fallback_at = s; }
@@ -63,6 +68,7 @@ void main() {
     best_index[lane] = index;
     fallback_value[lane] = fallback;
     fallback_index[lane] = fallback_at;
+    importance_max[lane] = largest_importance;
     reflected_sum[lane] = reflected;
     emitted_sum[lane] = emitted;
     barrier();
@@ -77,6 +83,7 @@ void main() {
                 fallback_value[lane] = fallback_value[other];
                 fallback_index[lane] = fallback_index[other];
             }
+            importance_max[lane] = max(importance_max[lane], importance_max[other]);
             reflected_sum[lane] += reflected_sum[other];
             emitted_sum[lane] += emitted_sum[other];
         }
@@ -87,7 +94,9 @@ void main() {
     float most = max(shot.power.y, total);
     bool shoots = fallback_index[0] != NO_SHOOTER && fallback_value[0] > 0.0
         && fallback_value[0] > pc.epsilon * most;
-    uint chosen = best_value[0] > 0.0 ? best_index[0] : fallback_index[0];
+    bool weighted = pc.mode == SELECT_IMPORTANCE_WEIGHTED;
+    float spent = weighted ? pc.epsilon * most * importance_max[0] : 0.0;
+    uint chosen = best_value[0] > spent ? best_index[0] : fallback_index[0];
     if (pc.mode != SELECT_IMPORTANCE_SHOOTER) {
         vec3 r = pc.reflectance_sum.rgb;
         vec3 ambient = (r * reflected_sum[0].rgb + (r - 1.0) * emitted_sum[0].rgb) / pc.total_area;

@@ -316,9 +316,13 @@ impl GiMethod for Radiosity {
         if !moved && state.converged() && settled {
             return Ok(());
         }
+        // Deliveries wait only after a view change until a pick finds none (the state may lag a
+        // frame, which only records a few empty deliveries more).
+        let mut deliver = state.may_deliver(self.simulated.generation);
         for _ in 0..self.shots_this_frame() {
             if let (Mode::Pd, Some(camera)) = (mode, camera) {
                 let generation = self.simulated.generation;
+                deliver |= self.simulated_changed;
                 if self.simulated_changed && self.simulated.everything {
                     self.solver.record_visibility_everything(rec, generation)?;
                 } else if self.simulated_changed {
@@ -326,7 +330,9 @@ impl GiMethod for Radiosity {
                     self.solver.record_visibility(rec, &simulated, generation)?;
                 }
                 self.simulated_changed = false;
-                self.solver.record_deliveries(rec, self.solver.slots())?;
+                if deliver {
+                    self.solver.record_deliveries(rec, self.solver.slots())?;
+                }
             }
             self.solver.record_shot(rec)?;
             if mode == Mode::Pd && self.simulated.count_shot() {
