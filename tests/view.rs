@@ -278,6 +278,34 @@ fn the_arrow_keys_move_an_emitter_and_the_method_is_rebuilt_when_they_let_go() {
 }
 
 #[test]
+fn radiosity_id_and_pd_follow_the_camera_and_the_mode_keys() {
+    let dir = scratch("radiosity-modes");
+    // pd: the camera's importance and the simulated view are marked on frame 1 and again when
+    // W moves the camera (frame 2); "]" cycles pd to pr (frame 4), which has no camera pass, so
+    // moving on frame 5 marks nothing.
+    let report = view_with_keys(
+        &dir,
+        &[
+            "--scene",
+            "cornell-area",
+            "--size",
+            "48x36",
+            "--method",
+            "radiosity",
+            "--radiosity-mode",
+            "pd",
+        ],
+        5,
+        "f1,w,f1,],w",
+    );
+    let runs = |name: &str| pass_runs(&report, name);
+    // Frames a pass ran in: the camera passes on frames 1 and 2 only, pd's table on 1 to 3.
+    assert_eq!(runs("radiosity view"), 2);
+    assert_eq!(runs("radiosity table store"), 3);
+    assert_eq!(runs("radiosity stats"), 5, "pr shoots on after the switch");
+}
+
+#[test]
 fn view_rejects_bad_input_and_a_missing_display_with_one_line() {
     let output = vkgi(&["view", "--size", "0x0"]);
     assert_eq!(output.status.code(), Some(2));
