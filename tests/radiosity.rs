@@ -332,9 +332,8 @@ fn with_uniform_importance_id_picks_the_shooters_pr_picks() {
     common::assert_no_validation_errors(&gpu);
 }
 
-/// A floor, a back wall lower than an emitter over the floor facing down (so nothing reaches the
-/// emitter's top), and a camera in front that
-/// sees every side light reaches.
+/// A floor, a back wall lower than an emitter over the floor facing down (so nothing reaches
+/// the emitter's top): a camera in front sees every side light reaches.
 fn open_corner() -> Scene {
     let mut mesh = Mesh::default();
     let v = Vec3::new;

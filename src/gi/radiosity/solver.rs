@@ -438,7 +438,7 @@ impl Solver {
             let locations = light_locations(light);
             rec.update_buffer("radiosity light locations", &self.locations, bytemuck::cast_slice(&locations));
             for slot in 0..locations.len() as u32 {
-                self.record_location(rec, slot, QUANTITY_RADIOSITY, 0)?;
+                self.record_location_of(rec, &self.shot, slot, QUANTITY_RADIOSITY, 0)?;
             }
         }
         Ok(())
@@ -478,8 +478,6 @@ impl Solver {
     fn record_view(&self, rec: &mut Recorder, camera: &CameraView, flags: u32) -> GpuResult<()> {
         self.record_item_buffer(rec, 0, 0, ITEM_CAMERA, Some(camera))?;
         let element_count = self.elements.elements.len() as u32;
-        let groups = element_count.div_ceil(LINEAR_WORKGROUP).max(1);
-        let columns = groups.min(MAX_WORKGROUPS_X);
         rec.compute(&ComputePass {
             name: "radiosity view",
             pipeline: &self.view_pass,
@@ -503,7 +501,7 @@ impl Solver {
                 scale: self.importance_scale,
                 flags,
             },
-            threads: [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1],
+            threads: self.element_threads(),
         })
     }
 
@@ -627,9 +625,12 @@ impl Solver {
             .unwrap_or_default()
     }
 
-    /// Draw the item buffer of location `slot` and gather from it into every element.
-    fn record_location(&self, rec: &mut Recorder, slot: u32, quantity: u32, flags: u32) -> GpuResult<()> {
-        self.record_location_of(rec, &self.shot, slot, quantity, flags)
+    /// Threads of a pass with one per element, in rows of at most [`MAX_WORKGROUPS_X`]
+    /// workgroups (the shaders rebuild the element index from both dimensions).
+    fn element_threads(&self) -> [u32; 3] {
+        let groups = (self.elements.elements.len() as u32).div_ceil(LINEAR_WORKGROUP).max(1);
+        let columns = groups.min(MAX_WORKGROUPS_X);
+        [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1]
     }
 
     /// The item buffer of `slot`: one stereographic pass, five hemicube faces, or the camera.
@@ -666,6 +667,7 @@ impl Solver {
         })
     }
 
+    /// Draw the item buffer of location `slot` and gather from it into every element.
     fn record_location_of(
         &self,
         rec: &mut Recorder,
@@ -682,8 +684,6 @@ impl Solver {
             self.record_item_buffer(rec, slot, 0, ITEM_STEREOGRAPHIC, None)?;
         }
         let element_count = self.elements.elements.len() as u32;
-        let groups = element_count.div_ceil(LINEAR_WORKGROUP).max(1);
-        let columns = groups.min(MAX_WORKGROUPS_X);
         let [table, delivery] = self.table.gather_bindings();
         rec.compute(&ComputePass {
             name: "radiosity gather",
@@ -714,7 +714,7 @@ impl Solver {
                 flags,
                 surface_count: self.elements.surfaces.len() as u32,
             },
-            threads: [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1],
+            threads: self.element_threads(),
         })
     }
 
