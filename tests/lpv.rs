@@ -485,6 +485,57 @@ fn ilpv_blends_incrementally_in_a_scene_lit_by_an_area_light_alone() {
     common::assert_no_validation_errors(&gpu);
 }
 
+/// The mean indirect luminance of each of `frames` frames of `scene` under ILPV.
+fn indirect_means_per_frame(
+    gpu: &vkgi::gpu::Gpu,
+    scene: &Scene,
+    settings: LpvSettings,
+    frames: u32,
+) -> Vec<f64> {
+    let mut frame = vkgi::render::Frame::new(gpu, scene, common::indirect_only(32, 24)).unwrap();
+    let mut lpv = Lpv::new(&Setup::new(gpu, scene), settings).unwrap();
+    let mut ring = vkgi::gpu::frames::FrameRing::new(gpu, 2).unwrap();
+    (0..frames)
+        .map(|_| {
+            frame.submit(gpu, &mut ring, Some(&mut lpv)).unwrap();
+            ring.finish().unwrap();
+            common::mean(&frame.read_hdr(gpu).unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn no_frame_flashes_above_the_settled_indirect_light() {
+    // The first frame used to inject at full weight and frame 2 carried all of it on at λ: at
+    // λ 0.99 frame 2 was 4x the settled light on this scene (10.8x at lattice 10), at 0.999 32x.
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    for lambda in [0.5f32, 0.9, 0.99, 0.999] {
+        let settings = LpvSettings {
+            incremental: lambda,
+            rsm: 64,
+            ..LpvSettings::default()
+        };
+        let means = indirect_means_per_frame(&gpu, &scene, settings, 40);
+        let settled = means[means.len() - 1];
+        let highest = means.iter().cloned().fold(0.0, f64::max);
+        eprintln!(
+            "λ {lambda}: frames 1-4 {:.5?}, settled {settled:.5}, highest / settled {:.4}",
+            &means[..4],
+            highest / settled
+        );
+        assert!(
+            (means[means.len() - 2] - settled).abs() < 1e-3 * settled,
+            "not settled at λ {lambda}: {means:?}"
+        );
+        assert!(
+            highest <= 1.05 * settled,
+            "λ {lambda}: a frame reaches {highest} against the settled {settled}"
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
 #[test]
 fn ilpv_reaches_the_closed_form_steady_state() {
     let gpu = common::gpu();

@@ -310,8 +310,6 @@ pub struct Lpv {
     lattices: [[Buffer; 2]; 3],
     /// The sum of the steps the lookup reads, per channel.
     accumulation: [Buffer; 3],
-    /// The radiance scale of this frame's lookup relative to 1 / (π d²).
-    lookup_scale: f32,
     geometry: Buffer,
     neighbours: Buffer,
     axes: Buffer,
@@ -467,7 +465,6 @@ impl Lpv {
             rsm,
             lattices,
             accumulation,
-            lookup_scale: 1.0,
             geometry: gpu
                 .upload_storage("geometry lattice", bytemuck::cast_slice(&geometry_f32))?,
             neighbours: gpu.upload_uniform("ilpv neighbours", bytemuck::cast_slice(&neighbours))?,
@@ -511,34 +508,34 @@ impl Lpv {
         }
     }
 
-    /// The lookup's scale for this frame, from the blend weights used (see [`IlpvLookup`]).
-    fn frame_lookup_scale(&self, current_factor: f32) -> f32 {
+    /// The lookup's scale (see [`IlpvLookup`]): ILPV's lattice holds the fresh light at weight
+    /// 1 - λ_incr every frame, the first included.
+    fn lookup_scale(&self) -> f32 {
+        let fresh = 1.0 - self.settings.incremental;
         match (self.settings.scheme, self.settings.ilpv_lookup) {
             (Scheme::Lpv, _) => 1.0,
-            (Scheme::Ilpv, IlpvLookup::Accumulated) => {
-                MEAN_NEIGHBOUR_DISTANCE as f32 / current_factor
-            }
-            (Scheme::Ilpv, IlpvLookup::Final) => {
-                self.settings.iterations.max(1) as f32 / (1.0 - self.settings.incremental)
-            }
+            (Scheme::Ilpv, IlpvLookup::Accumulated) => MEAN_NEIGHBOUR_DISTANCE as f32 / fresh,
+            (Scheme::Ilpv, IlpvLookup::Final) => self.settings.iterations.max(1) as f32 / fresh,
         }
     }
 
     /// The ILPV blend weights (previous, current) for this frame: λ̃a = λ_incr E_now / E_before
-    /// and λ̃b = 1 - λ_incr; plain propagation (0, 1) on the first frame or without light.
+    /// and λ̃b = 1 - λ_incr. With nothing to carry (the first frame, or no light before) the
+    /// carried lattice counts as empty, λ̃a = 0, and the fresh light still gets 1 - λ_incr: the
+    /// lattice then grows through the recursion's partial sums up to its steady state instead of
+    /// starting from a full-weight injection, which made frame 2 overshoot the settled light
+    /// (4x at λ 0.99). Classic LPV: (0, 1).
     pub fn blend_weights(&self) -> (f32, f32) {
         let lambda = f64::from(self.settings.incremental);
-        if self.settings.scheme != Scheme::Ilpv
-            || self.frames == 0
-            || self.previous_energy <= 0.0
-            || lambda == 0.0
-        {
+        if self.settings.scheme != Scheme::Ilpv {
             return (0.0, 1.0);
         }
-        (
-            (lambda * self.energy / self.previous_energy) as f32,
-            (1.0 - lambda) as f32,
-        )
+        let carried = if self.frames == 0 || self.previous_energy <= 0.0 {
+            0.0
+        } else {
+            lambda * self.energy / self.previous_energy
+        };
+        (carried as f32, (1.0 - lambda) as f32)
     }
 
     fn dims(&self) -> [i32; 4] {
@@ -587,7 +584,7 @@ impl Lpv {
         let cells = self.lattice.cell_count() as u32;
         let pair = &self.lattices[channel];
         let (previous_factor, current_factor) = self.blend_weights();
-        if previous_factor > 0.0 {
+        if previous_factor > 0.0 || current_factor != 1.0 {
             let push = MergePush {
                 cells,
                 previous_factor,
@@ -789,7 +786,6 @@ impl GiMethod for Lpv {
 
     fn light_done(&mut self, _ctx: &FrameContext) {
         // This frame's light becomes "last frame's".
-        self.lookup_scale = self.frame_lookup_scale(self.blend_weights().1);
         self.result = self.pending_result;
         self.previous_energy = self.energy;
         self.frames += 1;
@@ -805,7 +801,7 @@ impl GiMethod for Lpv {
             origin_cell: [o.x, o.y, o.z, cell],
             dims: self.dims(),
             size: [view.width(), view.height()],
-            scale: self.lookup_scale / (std::f32::consts::PI * cell * cell),
+            scale: self.lookup_scale() / (std::f32::consts::PI * cell * cell),
             offset: self.settings.lookup_offset,
         };
         let gb = &view.gbuffer;
