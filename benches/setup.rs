@@ -33,7 +33,7 @@ fn geometry_lattice(c: &mut Criterion) {
                 Err(e) => panic!("{e}"),
             };
             c.bench_function(&format!("geometry lattice {name} {cells}"), |b| {
-                b.iter(|| geometry::build(&scene.mesh, &lattice, &transfer, BlockingLobe::TwoSided))
+                b.iter(|| geometry::build(&scene.mesh, &lattice, &transfer, BlockingLobe::Oriented))
             });
         }
     }

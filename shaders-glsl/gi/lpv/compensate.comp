@@ -1,7 +1,9 @@
 #version 460
-// Clamp compensation for the 26-neighbour step (one colour channel, in place): scale each cell
-// so that one unblocked, lossless step moves exactly its energy, by E_in over the energy the
-// clamped transfers would move. src/gi/lpv/cpu.rs compensate_clamp is the same in f64.
+// Clamp compensation for the 26-neighbour step (one colour channel, in place): apply the step's
+// medium to each cell (absorption from both bands, isotropic scattering moves the directional
+// band's scattered part into the DC band) and scale it so that one unblocked step, then pure
+// transport, moves exactly the energy the medium left: by E over the energy the clamped
+// transfers would move. src/gi/lpv/cpu.rs medium_mix and compensate_clamp in f64.
 #extension GL_EXT_control_flow_attributes : require
 layout(local_size_x = LINEAR_WORKGROUP) in;
 
@@ -16,15 +18,17 @@ layout(binding = COMPENSATE_NEIGHBOURS, std140) uniform Neighbours { Neighbour n
 
 layout(push_constant) uniform Push {
     uint count;
+    float keep_dc;           // 1 - λa
+    float keep_directional;  // 1 - λa - λs
 } pc;
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    vec4 l = cells[i];
+    vec4 l = cells[i] * vec4(pc.keep_dc, vec3(pc.keep_directional));
     float moved = 0.0;
     [[unroll]] for (int d = 0; d < 26; ++d) {
         moved += max(dot(l, neighbours[d].transfer), 0.0) * neighbours[d].transfer.x;
     }
-    if (moved > 0.0 && l.x > 0.0) cells[i] = l * (l.x / moved);
+    cells[i] = moved > 0.0 && l.x > 0.0 ? l * (l.x / moved) : l;
 }

@@ -1,6 +1,7 @@
 // One 26-neighbour ILPV gather step for one colour channel (seed 000, Listing 5.2/5.3): each
 // destination cell gathers from its 26 neighbours, with absorption and scattering, blocking by
-// the source cell's geometry SH, negative transfers clamped to zero. src/gi/lpv/cpu.rs step_26
+// the source cell's geometry (blocking.glsl), negative transfers clamped to zero (the
+// transported light alone: the in-scattered light adds to it, see cpu.rs). src/gi/lpv/cpu.rs step_26
 // is the same in f64. With `accumulate`, the result is also summed into the accumulation
 // lattice the lookup reads. Included by lpv/ilpv_tiled.comp and lpv/ilpv_naive.comp.
 
@@ -45,10 +46,10 @@ void main() {
         Neighbour n = neighbours[d];
         ivec3 offset = neighbour_offset(d);
         vec4 src = source_light(cell, -offset);
-        vec4 blocker = source_geometry(cell, -offset);
+        float blocked = blocking_of(source_geometry(cell, -offset), n.transfer, vec3(offset));
         float outscattered = src.x * pc.scatter_energy;
-        float blocking = clamp(1.0 - pc.use_blocking * dot(blocker, n.transfer), 0.0, 1.0);
-        float factor = max((pc.keep * dot(src, n.transfer) + outscattered * n.outscatter) * blocking, 0.0);
+        float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
+        float factor = (max(pc.keep * dot(src, n.transfer), 0.0) + outscattered * n.outscatter) * blocking;
         dst += n.transfer * factor;
     }
     uint i = lattice_index(cell, pc.dims.xyz);

@@ -1,8 +1,11 @@
 // One classic LPV step for one colour channel (Kaplanyan & Dachsbacher 2010): from each of the 6
 // face neighbours, the flux through the 5 faces of this cell other than the shared one
 // (Ω_f times the source's intensity toward the face centre), re-emitted as a cosine lobe around
-// the face normal; the step's result is also added to the accumulation lattice. Blocking uses
-// the mean geometry SH of source and destination. src/gi/lpv/cpu.rs step_6 is the same in f64.
+// the face normal; the step's result is also added to the accumulation lattice. Blocking
+// (blocking.glsl): the thesis's SH lobes use the mean geometry of source and destination (the
+// shared face, as KD10's half-cell-offset geometry volume); the projected-area models the
+// source's, like ILPV: light crosses a wall in the cell that holds it, a one-way wall blocks
+// light leaving through it and not light on its way to it. src/gi/lpv/cpu.rs step_6 is the same in f64.
 // Included by lpv/lpv_tiled.comp and lpv/lpv_naive.comp.
 
 #extension GL_EXT_control_flow_attributes : require
@@ -36,13 +39,15 @@ void main() {
     prepare_sources();
     ivec3 cell = ivec3(gl_GlobalInvocationID);
     if (!lattice_inside(cell, pc.dims.xyz)) return;
-    vec4 own_geometry = source_geometry(cell, ivec3(0));
+    GeometryWords own_geometry = source_geometry(cell, ivec3(0));
     vec4 dst = vec4(0.0);
     [[unroll]] for (int a = 0; a < 6; ++a) {
         ivec3 offset = axes[a].offset.xyz;
         vec4 src = source_light(cell, -offset);
-        vec4 blocker = 0.5 * (source_geometry(cell, -offset) + own_geometry);
-        float blocking = clamp(1.0 - pc.use_blocking * dot(blocker, axes[a].blocking_transfer), 0.0, 1.0);
+        GeometryWords source = source_geometry(cell, -offset);
+        GeometryWords blocker = GEOMETRY_WORDS == 1u ? mean_geometry(source, own_geometry) : source;
+        float blocked = blocking_of(blocker, axes[a].blocking_transfer, vec3(offset));
+        float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
         [[unroll]] for (int f = 0; f < 5; ++f) {
             float flux = max(dot(src, axes[a].faces[f].evaluation), 0.0) * blocking;
             dst += axes[a].faces[f].lobe * flux;

@@ -1,8 +1,9 @@
 #ifndef VKGI_LPV_TILE_GLSL
 #define VKGI_LPV_TILE_GLSL
 // Where a propagation step reads its source cells. The including shader defines LPV_TILED,
-// declares the buffers `source_cells` and `geometry_cells` (vec4 per cell) and a push-constant
-// block `pc` with `ivec4 dims`, and calls prepare_sources() in uniform control flow first.
+// declares the buffers `source_cells` (vec4 per cell) and `geometry_cells` (GEOMETRY_WORDS vec4
+// per cell, blocking.glsl) and a push-constant block `pc` with `ivec4 dims`, and calls
+// prepare_sources() in uniform control flow first.
 //
 // Tiled: the workgroup (one tile of cells) loads its cells plus a one-cell halo of light and
 // geometry into shared memory, zero outside the lattice. Shared memory is laid out [x][y][z]
@@ -10,6 +11,12 @@
 // their stride odd and spreads them over the banks (the thesis's CUDA kernel: padding z, and
 // only z, removed the bank conflicts).
 #include "gi/lpv/lattice.glsl"
+#include "gi/lpv/blocking.glsl"
+
+// Word `w` of the geometry of lattice cell `k`.
+vec4 stored_geometry(uint k, uint w) {
+    return geometry_cells[k * GEOMETRY_WORDS + w];
+}
 
 #if LPV_TILED
 layout(constant_id = 3) const uint Z_PAD = 1u;
@@ -18,7 +25,7 @@ const uint TILE_Y = gl_WorkGroupSize.y + 2u;
 const uint TILE_Z = gl_WorkGroupSize.z + 2u;
 const uint TILE_CELLS = TILE_X * TILE_Y * TILE_Z;
 shared vec4 tile_light[TILE_X * TILE_Y * (TILE_Z + Z_PAD)];
-shared vec4 tile_geometry[TILE_X * TILE_Y * (TILE_Z + Z_PAD)];
+shared vec4 tile_geometry[TILE_X * TILE_Y * (TILE_Z + Z_PAD) * GEOMETRY_WORDS];
 
 uint tile_index(ivec3 t) {
     return (uint(t.x) * TILE_Y + uint(t.y)) * (TILE_Z + Z_PAD) + uint(t.z);
@@ -30,15 +37,13 @@ void prepare_sources() {
     for (uint i = gl_LocalInvocationIndex; i < TILE_CELLS; i += threads) {
         ivec3 t = ivec3(i % TILE_X, (i / TILE_X) % TILE_Y, i / (TILE_X * TILE_Y));
         ivec3 g = origin + t - 1;
-        vec4 light = vec4(0.0);
-        vec4 geometry = vec4(0.0);
-        if (lattice_inside(g, pc.dims.xyz)) {
-            uint k = lattice_index(g, pc.dims.xyz);
-            light = source_cells[k];
-            geometry = geometry_cells[k];
+        bool inside = lattice_inside(g, pc.dims.xyz);
+        uint k = inside ? lattice_index(g, pc.dims.xyz) : 0u;
+        tile_light[tile_index(t)] = inside ? source_cells[k] : vec4(0.0);
+        for (uint w = 0u; w < GEOMETRY_WORDS; ++w) {
+            tile_geometry[tile_index(t) * GEOMETRY_WORDS + w] =
+                inside ? stored_geometry(k, w) : vec4(0.0);
         }
-        tile_light[tile_index(t)] = light;
-        tile_geometry[tile_index(t)] = geometry;
     }
     barrier();
 }
@@ -47,8 +52,15 @@ vec4 source_light(ivec3 cell, ivec3 offset) {
     return tile_light[tile_index(ivec3(gl_LocalInvocationID) + 1 + offset)];
 }
 
-vec4 source_geometry(ivec3 cell, ivec3 offset) {
-    return tile_geometry[tile_index(ivec3(gl_LocalInvocationID) + 1 + offset)];
+GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
+    uint t = tile_index(ivec3(gl_LocalInvocationID) + 1 + offset) * GEOMETRY_WORDS;
+    GeometryWords g = no_geometry();
+    g.first = tile_geometry[t];
+    if (GEOMETRY_WORDS == 3u) {
+        g.second = tile_geometry[t + 1u];
+        g.third = tile_geometry[t + 2u];
+    }
+    return g;
 }
 #else
 void prepare_sources() {}
@@ -58,9 +70,18 @@ vec4 source_light(ivec3 cell, ivec3 offset) {
     return lattice_inside(c, pc.dims.xyz) ? source_cells[lattice_index(c, pc.dims.xyz)] : vec4(0.0);
 }
 
-vec4 source_geometry(ivec3 cell, ivec3 offset) {
+GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     ivec3 c = cell + offset;
-    return lattice_inside(c, pc.dims.xyz) ? geometry_cells[lattice_index(c, pc.dims.xyz)] : vec4(0.0);
+    GeometryWords g = no_geometry();
+    if (lattice_inside(c, pc.dims.xyz)) {
+        uint k = lattice_index(c, pc.dims.xyz);
+        g.first = stored_geometry(k, 0u);
+        if (GEOMETRY_WORDS == 3u) {
+            g.second = stored_geometry(k, 1u);
+            g.third = stored_geometry(k, 2u);
+        }
+    }
+    return g;
 }
 #endif
 

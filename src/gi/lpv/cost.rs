@@ -1,22 +1,31 @@
 //! What one propagation step must move and compute per cell, for the roofline comparison in
 //! `vkgi profile`. Counts are per cell and per colour channel; a multiply-add is 2 flops.
 //!
-//! ILPV (26 neighbours): the gather reads the light and geometry SH of the cell and its
-//! neighbours; with perfect reuse each cell's 2 vec4 are read once (32 B) and its result written
-//! once (16 B), plus a read-modify-write of the accumulation (32 B) when accumulating. Per
-//! neighbour: ⟨src|Γ⟩ 7, ⟨B|Γ⟩ 7, the outscattered energy 1, blocking 2, the factor 4
-//! (mul, fma, mul, max) and dst += Γ·f 8: 29 flops, 754 per cell.
+//! ILPV (26 neighbours): the gather reads the light SH and the geometry of the cell and its
+//! neighbours; with perfect reuse each cell's light (16 B) and geometry (16 B for an SH lobe,
+//! 48 B for the projected-area model) are read once and its result written once (16 B), plus a
+//! read-modify-write of the accumulation (32 B) when accumulating. Per neighbour: ⟨src|Γ⟩ 7,
+//! the blocking function (⟨B|Γ⟩ 7; the projected area: oᵀMo 12, the trace 2, the product and
+//! the root 2, S·|o| 5, the min 1, V·o 5, the sum and half 2: 29), the outscattered energy 1,
+//! the clamp 2, the factor 4 (mul, fma, mul, max) and dst += Γ·f 8: 29 flops with an SH lobe
+//! (754 per cell), 51 with the projected area (1326).
 //!
 //! LPV (6 neighbours, 5 faces): the same bytes (light and geometry read, result written, the
 //! accumulation read and written every step). Per face ⟨src|eval⟩ 7, max 1, blocking 1,
-//! dst += lobe·flux 8: 17; per axis 5 faces plus blocking (mean geometry 5, ⟨B|Γ⟩ 7,
-//! clamp 2): 99, 594 per cell.
+//! dst += lobe·flux 8: 17; per axis 5 faces plus blocking (mean geometry 5 per word, the
+//! blocking function, clamp 2): 99 with an SH lobe (594 per cell), 131 with the projected area
+//! (786).
 
 use super::technique::Scheme;
 
+/// Flops of the blocking function for geometry of `geometry_words` words per cell.
+fn blocking_flops(geometry_words: u32) -> f64 {
+    if geometry_words == 1 { 7.0 } else { 29.0 }
+}
+
 /// Bytes a step must move per cell at the ideal (each cell read and written once).
-pub fn bytes_per_cell(scheme: Scheme, accumulate: bool) -> f64 {
-    let streaming = 32.0 + 16.0;
+pub fn bytes_per_cell(scheme: Scheme, accumulate: bool, geometry_words: u32) -> f64 {
+    let streaming = 16.0 + 16.0 * f64::from(geometry_words) + 16.0;
     let accumulation = match scheme {
         Scheme::Lpv => 32.0,
         Scheme::Ilpv if accumulate => 32.0,
@@ -26,10 +35,11 @@ pub fn bytes_per_cell(scheme: Scheme, accumulate: bool) -> f64 {
 }
 
 /// Floating-point operations a step performs per cell.
-pub fn flops_per_cell(scheme: Scheme) -> f64 {
+pub fn flops_per_cell(scheme: Scheme, geometry_words: u32) -> f64 {
+    let blocking = blocking_flops(geometry_words);
     match scheme {
-        Scheme::Ilpv => 26.0 * 29.0,
-        Scheme::Lpv => 6.0 * (5.0 * 17.0 + 14.0),
+        Scheme::Ilpv => 26.0 * (22.0 + blocking),
+        Scheme::Lpv => 6.0 * (5.0 * 17.0 + 5.0 * f64::from(geometry_words) + blocking + 2.0),
     }
 }
 
@@ -39,9 +49,12 @@ mod tests {
 
     #[test]
     fn counts_follow_the_derivation() {
-        assert_eq!(flops_per_cell(Scheme::Ilpv), 754.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv), 594.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false), 48.0);
-        assert_eq!(bytes_per_cell(Scheme::Lpv, true), 80.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, 1), 754.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 1), 594.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, 3), 1326.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 3), 786.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 1), 48.0);
+        assert_eq!(bytes_per_cell(Scheme::Lpv, true, 1), 80.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3), 80.0);
     }
 }

@@ -4,6 +4,7 @@
 
 use glam::{DVec3, DVec4, IVec3};
 
+use super::geometry::GeometryLattice;
 use super::lattice::Lattice;
 use crate::gi::shared::sh;
 use super::transfer::{FaceScheme, TransferVectors};
@@ -70,12 +71,28 @@ fn each_cell(lattice: &Lattice, mut f: impl FnMut(IVec3) -> DVec4) -> Vec<DVec4>
     out
 }
 
+/// The medium of one step applied to a cell before transport: isotropic scattering turns the
+/// scattered part of the directional band into the DC band (the thesis's in-step out-scatter
+/// term, γ_j ∝ Γ_j.x, sums to exactly this over the 26 neighbours because Σ_j Γ_j.x² = 1 at the
+/// calibrated κ), and absorption takes its part of both.
+pub fn medium_mix(l: DVec4, absorption: f64, scattering: f64) -> DVec4 {
+    let directional = 1.0 - absorption - scattering;
+    DVec4::new(
+        l.x * (1.0 - absorption),
+        l.y * directional,
+        l.z * directional,
+        l.w * directional,
+    )
+}
+
 /// The clamp in the 26-neighbour step drops negative transfers, which adds energy for peaked
-/// distributions (a single VPL lobe gains 1.6% in its first step). Clamp compensation scales
-/// each cell so that an unblocked, lossless step conserves its energy exactly: the factor is
-/// E_in / Σ_j max(0, ⟨L|Γ_j⟩) ⟨Γ_j|1⟩ (exact, because the clamp commutes with positive scales).
-pub fn compensate_clamp(cells: &mut [DVec4], t: &TransferVectors) {
+/// distributions (a single VPL lobe gains 1.6% in its first step). Clamp compensation applies
+/// the step's medium to each cell ([`medium_mix`]) and scales it so that the step, now pure
+/// transport, moves exactly the energy the medium left: the factor is
+/// E / Σ_j max(0, ⟨L|Γ_j⟩) ⟨Γ_j|1⟩ (exact, because the clamp commutes with positive scales).
+pub fn compensate_clamp(cells: &mut [DVec4], t: &TransferVectors, absorption: f64, scattering: f64) {
     for l in cells.iter_mut() {
+        *l = medium_mix(*l, absorption, scattering);
         let out: f64 = t
             .neighbours
             .iter()
@@ -88,11 +105,13 @@ pub fn compensate_clamp(cells: &mut [DVec4], t: &TransferVectors) {
 }
 
 /// One 26-neighbour gather step (seed 000, Listing 5.2): absorption and scattering, blocking by
-/// the source cell's geometry SH, clamping negative transfers to zero.
+/// the source cell's geometry, clamping negative transfers to zero. The clamp acts on the
+/// transported light alone (the thesis clamps it with the in-scattered light, which then
+/// cancels negative transfers instead of adding to the sum: energy the medium did not absorb).
 pub fn step_26(
     lattice: &Lattice,
     src: &[DVec4],
-    geometry: &[DVec4],
+    geometry: &GeometryLattice,
     t: &TransferVectors,
     p: StepParams,
 ) -> Vec<DVec4> {
@@ -104,11 +123,11 @@ pub fn step_26(
         for n in &t.neighbours {
             let s = c - n.offset;
             let l = fetch(lattice, src, s);
-            let b = fetch(lattice, geometry, s);
+            let b = geometry.blocking(geometry.words_at(lattice, s), n.transfer, n.offset.as_dvec3());
             let outscattered = l.x * scatter;
-            let blocking = (1.0 - use_blocking * b.dot(n.transfer)).clamp(0.0, 1.0);
+            let blocking = (1.0 - use_blocking * b).clamp(0.0, 1.0);
             let factor =
-                ((inv_asn * l.dot(n.transfer) + outscattered * n.outscatter) * blocking).max(0.0);
+                ((inv_asn * l.dot(n.transfer)).max(0.0) + outscattered * n.outscatter) * blocking;
             dst += n.transfer * factor;
         }
         dst
@@ -118,11 +137,12 @@ pub fn step_26(
 /// One 6-neighbour step (Kaplanyan & Dachsbacher 2010): from each face neighbour, the flux
 /// through each of the 5 faces of this cell other than the shared one (solid angle times the
 /// source's intensity toward the face centre), re-emitted as a cosine lobe around the face
-/// normal. Blocking uses the mean geometry SH of source and destination (the shared face).
+/// normal. Blocking uses the mean geometry of source and destination (the shared face) with
+/// the thesis's SH lobes, the source's with the projected-area models (see kd10_step.glsl).
 pub fn step_6(
     lattice: &Lattice,
     src: &[DVec4],
-    geometry: &[DVec4],
+    geometry: &GeometryLattice,
     faces: &FaceScheme,
     t: &TransferVectors,
     use_blocking: bool,
@@ -133,13 +153,19 @@ pub fn step_6(
         for (axis, axis_faces) in &faces.axes {
             let s = c - *axis;
             let l = fetch(lattice, src, s);
-            let g = (fetch(lattice, geometry, s) + fetch(lattice, geometry, c)) * 0.5;
+            let (a, b) = (geometry.words_at(lattice, s), geometry.words_at(lattice, c));
+            let blocker = if geometry.lobe.words_per_cell() == 1 {
+                [0, 1, 2].map(|w| (a[w] + b[w]) * 0.5)
+            } else {
+                a
+            };
             let face_transfer = t
                 .neighbours
                 .iter()
                 .find(|n| n.offset == *axis)
                 .map_or(DVec4::ZERO, |n| n.transfer);
-            let blocking = (1.0 - use_blocking * g.dot(face_transfer)).clamp(0.0, 1.0);
+            let b = geometry.blocking(blocker, face_transfer, axis.as_dvec3());
+            let blocking = (1.0 - use_blocking * b).clamp(0.0, 1.0);
             for f in axis_faces {
                 let flux = f.solid_angle * l.dot(sh::basis(f.direction)).max(0.0) * blocking;
                 dst += sh::cosine_lobe(f.normal) * (flux / std::f64::consts::PI);

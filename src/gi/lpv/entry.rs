@@ -48,25 +48,25 @@ const ABSORPTION: Setting = Setting::new(
     "absorption",
     Kind::Float { min: 0.0, max: 1e6 },
     "0",
-    "Absorption coefficient σa of the medium (at most 1 with --extinction thesis)",
+    "Absorption coefficient σa of the medium, per metre (a unitless base at most 1 with --extinction thesis)",
 );
 const SCATTERING: Setting = Setting::new(
     "scattering",
     Kind::Float { min: 0.0, max: 1e6 },
     "0",
-    "Scattering coefficient σs of the medium (at most 1 with --extinction thesis)",
+    "Scattering coefficient σs of the medium, per metre (a unitless base at most 1 with --extinction thesis)",
 );
 const EXTINCTION: Setting = Setting::new(
     "extinction",
-    Kind::Choice(&["thesis", "physical"]),
-    "thesis",
-    "How σ becomes a per-step probability: thesis (σ^d̄) or physical (1 - exp(-σ d̄))",
+    Kind::Choice(&["physical", "thesis"]),
+    "physical",
+    "How σ becomes a per-step probability: physical (1 - exp(-σ d̄), d̄ the mean step in metres) or thesis (σ^d̄, which depends on the scene's unit)",
 );
 const BLOCKING_LOBE: Setting = Setting::new(
     "blocking-lobe",
-    Kind::Choice(&["two-sided", "front", "back", "none"]),
+    Kind::Choice(&["two-sided", "oriented", "projected", "front", "back", "none"]),
     "two-sided",
-    "The SH lobe a surface sample adds to the geometry (blocking) lattice",
+    "What a surface adds to the geometry (blocking) lattice: its area projected on the direction of travel, one-way toward the void where one of its sides faces it (oriented) or both ways (projected), or one of the thesis's SH lobes",
 );
 const BLOCKING_STRENGTH: Setting = Setting::new(
     "blocking-strength",
@@ -207,13 +207,15 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         if s.has(name) { s.flag(name) } else { Ok(false) }
     };
     let extinction = match s.has("extinction").then(|| s.text("extinction")).transpose()? {
-        Some("physical") => Extinction::Physical,
-        _ => Extinction::Thesis,
+        Some("thesis") => Extinction::Thesis,
+        _ => Extinction::Physical,
     };
     let blocking_lobe = match s.text("blocking-lobe")? {
         "front" => BlockingLobe::Front,
         "back" => BlockingLobe::Back,
         "none" => BlockingLobe::None,
+        "oriented" => BlockingLobe::Oriented,
+        "projected" => BlockingLobe::Projected,
         _ => BlockingLobe::TwoSided,
     };
     let ilpv_lookup = match s.has("ilpv-lookup").then(|| s.text("ilpv-lookup")).transpose()? {

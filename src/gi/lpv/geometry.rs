@@ -1,33 +1,122 @@
 //! The geometry (blocking) lattice of seed 000: every scene triangle is sampled uniformly (a
 //! fixed-seed stream per triangle, rejection from the parallelogram as in the thesis), and each
-//! sample adds its area density `(A/n)/d²` times the SH lobe of its normal to the cell containing
-//! it (no half-cell offset). The result is view-independent and has no holes.
+//! sample adds its area density `(A/n)/d²` to the cell containing it (no half-cell offset), as a
+//! blocking function of the direction light travels. The result is view-independent and has no
+//! holes.
 //!
-//! The thesis leaves the lobe's sign open (prose and code disagree) and vkgi's surfaces are
-//! two-sided (normals follow the OBJ winding, which nothing guarantees), so the lobe is a choice:
-//! `front` SH_cos(N) (the thesis code), `back` SH_cos(-N), or `two-sided` SH_cos(N) + SH_cos(-N),
-//! which does not depend on winding. docs/lpv.md records the two-rooms test that decided the
-//! default. Densities are normalised so that a surface filling a cell's cross-section, facing
-//! the direction of propagation, blocks a face-neighbour transfer completely.
+//! Two families of blocking functions ([`BlockingLobe`]):
+//! * **Projected area** ([`super::projected`], three words per cell): a surface blocks the area
+//!   it shows the direction of travel, times the distance travelled: a wall blocks light crossing
+//!   it and not light running along it. `oriented` makes a surface one-way where one of its
+//!   sides faces the void ([`super::void_side`]): a room's walls and floor then block only light
+//!   leaving the room. `projected` blocks both ways everywhere.
+//! * **The thesis's SH lobes** (one word): `front` SH_cos(N) (the thesis code), `back`
+//!   SH_cos(-N), or `two-sided` (the default) SH_cos(N) + SH_cos(-N), evaluated as ⟨B|Γ_d⟩. In
+//!   2-band SH a one-sided lobe still blocks a grazing transfer at about half its head-on
+//!   strength, and the two-sided sum cancels the linear band, so it blocks every direction alike
+//!   (about 0.89 of any transfer through a cell-filling surface, grazing ones included). It is
+//!   the default because it is the more accurate on three of the four scenes measured
+//!   (docs/lpv.md): its over-blocking darkens the light that 2-band lobes send along surfaces,
+//!   which the lookup would otherwise read as the surfaces lighting themselves.
+//!
+//! Densities are normalised so that a surface filling a cell's cross-section, facing the
+//! direction of propagation, blocks a face-neighbour transfer completely.
 
-use glam::{DVec3, DVec4, Vec3};
+use std::collections::HashMap;
+
+use glam::{DVec3, DVec4, IVec3};
 
 use super::lattice::Lattice;
-use crate::gi::shared::sh;
+use super::projected;
 use super::transfer::TransferVectors;
+use super::void_side::Occupancy;
+use crate::gi::shared::sh;
 use crate::scene::Mesh;
 
-/// Which SH lobe a surface sample adds to the geometry lattice.
+/// What a surface sample adds to the geometry lattice.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum BlockingLobe {
+    /// The projected area, one-way toward the void where one side of a surface faces it.
+    Oriented,
+    /// The projected area, both ways everywhere.
+    Projected,
     /// SH_cos(N): blocks light travelling along the stored normal (the thesis code).
     Front,
     /// SH_cos(-N): blocks light travelling against the stored normal.
     Back,
-    /// Both: blocks either way, whatever the winding.
+    /// Both SH lobes: blocks either way, whatever the winding, and every direction alike.
     TwoSided,
     /// No blocking at all (no indirect shadows; for comparison).
     None,
+}
+
+impl BlockingLobe {
+    /// SH-sized words per cell.
+    pub fn words_per_cell(self) -> usize {
+        match self {
+            BlockingLobe::Oriented | BlockingLobe::Projected => projected::WORDS,
+            _ => 1,
+        }
+    }
+}
+
+/// The geometry lattice: `words_per_cell` consecutive words per cell, in lattice order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GeometryLattice {
+    pub lobe: BlockingLobe,
+    pub words: Vec<DVec4>,
+}
+
+/// The words of one cell, padded with zeros to the widest model.
+pub type CellWords = [DVec4; projected::WORDS];
+
+impl GeometryLattice {
+    /// A lattice of `cells` cells that blocks nothing.
+    pub fn empty(lobe: BlockingLobe, cells: usize) -> GeometryLattice {
+        GeometryLattice {
+            lobe,
+            words: vec![DVec4::ZERO; cells * lobe.words_per_cell()],
+        }
+    }
+
+    /// The words of cell `index`.
+    pub fn cell(&self, index: usize) -> &[DVec4] {
+        let k = self.lobe.words_per_cell();
+        &self.words[index * k..(index + 1) * k]
+    }
+
+    /// The words of the cell at integer coordinates `c` (zero outside the lattice).
+    pub fn words_at(&self, lattice: &Lattice, c: IVec3) -> CellWords {
+        let mut words = CellWords::default();
+        if let Some(c) = lattice.checked(c) {
+            for (w, stored) in words.iter_mut().zip(self.cell(lattice.index(c))) {
+                *w = *stored;
+            }
+        }
+        words
+    }
+
+    /// How much of a transfer to the neighbour at `offset` (in cells), with transfer vector
+    /// `transfer`, geometry `words` block (before the step clamps it to [0, 1]).
+    pub fn blocking(&self, words: CellWords, transfer: DVec4, offset: DVec3) -> f64 {
+        match self.lobe {
+            BlockingLobe::Oriented | BlockingLobe::Projected => projected::blocking(words, offset),
+            _ => words[0].dot(transfer),
+        }
+    }
+
+    /// Every word times `factor` (the blocking strength).
+    pub fn scaled(mut self, factor: f64) -> GeometryLattice {
+        for w in &mut self.words {
+            *w *= factor;
+        }
+        self
+    }
+
+    /// The words as the GPU stores them.
+    pub fn to_f32(&self) -> Vec<[f32; 4]> {
+        self.words.iter().map(|w| w.as_vec4().to_array()).collect()
+    }
 }
 
 /// Samples per unit of `area / cell area` (the thesis leaves the density open; ≥ 1 per
@@ -49,7 +138,8 @@ fn stream(seed: u64) -> impl FnMut() -> f64 {
     }
 }
 
-/// Blocking of a unit-density surface facing the face-neighbour direction: the normaliser.
+/// Blocking of a unit-density surface facing the face-neighbour direction under the SH lobes:
+/// their normaliser.
 pub fn unit_blocking(transfer: &TransferVectors) -> f64 {
     let face = transfer
         .neighbours
@@ -60,16 +150,18 @@ pub fn unit_blocking(transfer: &TransferVectors) -> f64 {
     sh::cosine_lobe(DVec3::X).dot(face)
 }
 
-/// The geometry lattice (one SH vector per cell) of `mesh`.
-pub fn build(
-    mesh: &Mesh,
-    lattice: &Lattice,
-    transfer: &TransferVectors,
-    lobe: BlockingLobe,
-) -> Vec<DVec4> {
-    let mut cells = vec![DVec4::ZERO; lattice.cell_count()];
+/// One uniform sample of a triangle: where, the triangle's index and unit normal, and the area
+/// density it carries in cells of area `d²`.
+struct Sample {
+    triangle: usize,
+    position: DVec3,
+    normal: DVec3,
+    density: f64,
+}
+
+/// Every area sample of every non-degenerate triangle of `mesh`, in a fixed order.
+fn for_each_sample(mesh: &Mesh, lattice: &Lattice, mut f: impl FnMut(&Sample)) {
     let d2 = f64::from(lattice.cell_size).powi(2);
-    let norm = 1.0 / unit_blocking(transfer);
     for t in 0..mesh.triangle_count() {
         let [a, b, c] = mesh.triangle(t).map(|v| v.as_dvec3());
         let cross = (b - a).cross(c - a);
@@ -77,16 +169,14 @@ pub fn build(
         if area <= 0.0 {
             continue;
         }
-        let normal = cross / (2.0 * area);
-        let shape = match lobe {
-            BlockingLobe::Front => sh::cosine_lobe(normal),
-            BlockingLobe::Back => sh::cosine_lobe(-normal),
-            BlockingLobe::TwoSided => sh::cosine_lobe(normal) + sh::cosine_lobe(-normal),
-            BlockingLobe::None => return cells,
-        };
         let samples =
             ((SAMPLES_PER_CELL_AREA * area / d2).ceil() as u64).clamp(1, MAX_SAMPLES_PER_TRIANGLE);
-        let weight = area / samples as f64 / d2 * norm;
+        let mut sample = Sample {
+            triangle: t,
+            position: a,
+            normal: cross / (2.0 * area),
+            density: area / samples as f64 / d2,
+        };
         let mut rand = stream(0x5eed_0000_0000_0000 ^ t as u64);
         let mut kept = 0;
         while kept < samples {
@@ -95,13 +185,70 @@ pub fn build(
                 continue;
             }
             kept += 1;
-            let p = a + (b - a) * u + (c - a) * v;
-            if let Some(cell) = lattice.cell_of(Vec3::new(p.x as f32, p.y as f32, p.z as f32)) {
-                cells[lattice.index(cell)] += shape * weight;
-            }
+            sample.position = a + (b - a) * u + (c - a) * v;
+            f(&sample);
         }
     }
-    cells
+}
+
+/// The words one unit of area density of `sample` adds (`norm`: the SH lobes' normaliser,
+/// `outward`: the side facing the void, for one-way blocking); none for no blocking.
+fn unit_density_words(
+    lobe: BlockingLobe,
+    normal: DVec3,
+    norm: f64,
+    outward: impl FnOnce() -> Option<DVec3>,
+) -> Option<CellWords> {
+    let sh_lobe = match lobe {
+        BlockingLobe::Oriented => return Some(projected::surface_words(normal, outward())),
+        BlockingLobe::Projected => return Some(projected::surface_words(normal, None)),
+        BlockingLobe::Front => sh::cosine_lobe(normal),
+        BlockingLobe::Back => sh::cosine_lobe(-normal),
+        BlockingLobe::TwoSided => sh::cosine_lobe(normal) + sh::cosine_lobe(-normal),
+        BlockingLobe::None => return None,
+    };
+    Some([sh_lobe * norm, DVec4::ZERO, DVec4::ZERO])
+}
+
+/// The geometry lattice of `mesh`.
+pub fn build(
+    mesh: &Mesh,
+    lattice: &Lattice,
+    transfer: &TransferVectors,
+    lobe: BlockingLobe,
+) -> GeometryLattice {
+    let mut out = GeometryLattice::empty(lobe, lattice.cell_count());
+    let mut occupancy = Occupancy::new(lattice);
+    if lobe == BlockingLobe::Oriented {
+        for_each_sample(mesh, lattice, |s| occupancy.mark(s.position));
+    }
+    let k = lobe.words_per_cell();
+    let norm = 1.0 / unit_blocking(transfer);
+    // The current triangle's side facing the void, found once per cell it covers.
+    let mut sides: HashMap<usize, Option<DVec3>> = HashMap::new();
+    let mut sides_of = usize::MAX;
+    for_each_sample(mesh, lattice, |s| {
+        let Some(cell) = lattice.cell_of(s.position.as_vec3()) else {
+            return;
+        };
+        let i = lattice.index(cell);
+        if sides_of != s.triangle {
+            sides.clear();
+            sides_of = s.triangle;
+        }
+        let outward = || {
+            *sides
+                .entry(i)
+                .or_insert_with(|| occupancy.outward(s.position, s.normal))
+        };
+        let Some(words) = unit_density_words(lobe, s.normal, norm, outward) else {
+            return;
+        };
+        for (word, add) in out.words[i * k..(i + 1) * k].iter_mut().zip(words) {
+            *word += add * s.density;
+        }
+    });
+    out
 }
 
 #[cfg(test)]
@@ -109,9 +256,8 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    #[test]
-    fn a_wall_filling_a_cell_blocks_a_face_transfer_completely() {
-        // A 1 x 1 square at x = 0.5 inside a 2 x 1 x 1 lattice of unit cells.
+    /// A 1 x 1 square at x = 0.5 (normal +x) in a 2 x 1 x 1 lattice of unit cells.
+    fn wall_in_a_cell(lobe: BlockingLobe) -> (GeometryLattice, TransferVectors) {
         let mut mesh = Mesh::default();
         let corners = [
             Vec3::new(0.5, 0.0, 0.0),
@@ -124,34 +270,60 @@ mod tests {
         }
         let lattice = Lattice::fit(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0), 2).unwrap();
         let transfer = TransferVectors::compute(2000, 3);
-        let face = transfer
-            .neighbours
-            .iter()
-            .find(|n| n.offset == glam::IVec3::X)
-            .unwrap()
-            .transfer;
-        let back = transfer
-            .neighbours
-            .iter()
-            .find(|n| n.offset == glam::IVec3::NEG_X)
-            .unwrap()
-            .transfer;
-        let front = build(&mesh, &lattice, &transfer, BlockingLobe::Front);
-        assert!(
-            (front[0].dot(face) - 1.0).abs() < 1e-9,
-            "full blocking along +x: {}",
-            front[0].dot(face)
-        );
-        assert!(
-            front[0].dot(back) < 0.2,
-            "little blocking against the normal"
-        );
-        assert_eq!(front[1], DVec4::ZERO);
-        let two = build(&mesh, &lattice, &transfer, BlockingLobe::TwoSided);
-        assert!(
-            (two[0].dot(face) - two[0].dot(back)).abs() < 1e-12,
-            "two-sided blocks both ways"
-        );
-        assert!(two[0].dot(face) > 0.8);
+        (build(&mesh, &lattice, &transfer, lobe), transfer)
+    }
+
+    /// The wall cell's blocking of the transfer toward neighbour `offset`.
+    fn toward(g: &GeometryLattice, t: &TransferVectors, offset: IVec3) -> f64 {
+        let n = t.neighbours.iter().find(|n| n.offset == offset).unwrap();
+        let lattice = Lattice::fit(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0), 2).unwrap();
+        let words = g.words_at(&lattice, IVec3::ZERO);
+        g.blocking(words, n.transfer, offset.as_dvec3())
+    }
+
+    #[test]
+    fn a_wall_filling_a_cell_blocks_a_face_transfer_completely() {
+        let (front, t) = wall_in_a_cell(BlockingLobe::Front);
+        let through = toward(&front, &t, IVec3::X);
+        assert!((through - 1.0).abs() < 1e-9, "full blocking along +x: {through}");
+        assert!(toward(&front, &t, IVec3::NEG_X) < 0.2, "little against the normal");
+        assert_eq!(front.cell(1), [DVec4::ZERO]);
+        // The wall is a partition of the lattice (both sides reach its border without meeting
+        // anything, so neither is the outside): oriented blocking is two-way there too.
+        let (oriented, t) = wall_in_a_cell(BlockingLobe::Oriented);
+        let b = toward(&oriented, &t, IVec3::NEG_X);
+        assert!((b - 1.0).abs() < 1e-9, "{b}");
+        let (two, t) = wall_in_a_cell(BlockingLobe::TwoSided);
+        let (x, back) = (toward(&two, &t, IVec3::X), toward(&two, &t, IVec3::NEG_X));
+        assert!((x - back).abs() < 1e-12, "two-sided blocks both ways");
+        assert!(x > 0.8);
+        let (projected, t) = wall_in_a_cell(BlockingLobe::Projected);
+        for offset in [IVec3::X, IVec3::NEG_X] {
+            let b = toward(&projected, &t, offset);
+            assert!((b - 1.0).abs() < 1e-9, "projected, {offset}: {b}");
+        }
+        // A diagonal transfer sees the wall foreshortened (|N·ω| = 1/√2 and 1/√3) over a
+        // longer step (√2 and √3 cells): it crosses it once all the same.
+        for offset in [IVec3::new(1, 1, 0), IVec3::new(-1, 1, -1)] {
+            let b = toward(&projected, &t, offset);
+            assert!((b - 1.0).abs() < 1e-9, "{offset}: {b}");
+        }
+    }
+
+    #[test]
+    fn only_the_projected_area_lets_light_run_along_a_wall() {
+        let grazing = [IVec3::Y, IVec3::Z, IVec3::new(0, 1, -1)];
+        let (projected, t) = wall_in_a_cell(BlockingLobe::Projected);
+        for offset in grazing {
+            assert!(toward(&projected, &t, offset).abs() < 1e-12, "{offset}");
+        }
+        // The thesis's lobes block a grazing face transfer at about half their head-on blocking
+        // or more: 2-band SH cannot be sharper.
+        for lobe in [BlockingLobe::Front, BlockingLobe::Back, BlockingLobe::TwoSided] {
+            let (g, t) = wall_in_a_cell(lobe);
+            let head_on = toward(&g, &t, IVec3::X).max(toward(&g, &t, IVec3::NEG_X));
+            let along = toward(&g, &t, IVec3::Y);
+            assert!(along > 0.4 * head_on, "{lobe:?}: {along} against {head_on}");
+        }
     }
 }

@@ -8,8 +8,10 @@ pub mod cpu;
 pub mod entry;
 pub mod geometry;
 pub mod lattice;
+pub mod projected;
 pub mod technique;
 pub mod transfer;
+pub mod void_side;
 
 pub use entry::METHODS;
 pub use technique::{Extinction, Lpv, LpvSettings, Scheme};

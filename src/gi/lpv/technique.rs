@@ -7,7 +7,7 @@ use glam::DVec4;
 
 use super::bindings as ids;
 use super::cost;
-use super::geometry::{self, BlockingLobe};
+use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::Lattice;
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
@@ -33,9 +33,11 @@ pub enum Scheme {
 /// How σa and σs become per-step probabilities λ on the lattice (d̄ = mean neighbour distance).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Extinction {
-    /// The thesis: λ = σ^d̄ (σ in [0, 1]; depends on the world unit).
+    /// The thesis: λ = σ^d̄ (σ in [0, 1]; depends on the world unit: with d̄ a few centimetres
+    /// σ^d̄ is near 1 for any σ, with d̄ in millimetres near 1 sooner still).
     Thesis,
-    /// Beer–Lambert: λ = 1 - exp(-σ d̄) (σ per world unit).
+    /// Beer–Lambert: λ = 1 - exp(-σ d̄), σ per metre (scene units are metres once a scene file's
+    /// `scale` applies) and d̄ the mean step in metres.
     Physical,
 }
 
@@ -117,7 +119,7 @@ impl Default for LpvSettings {
             rsm: DEFAULT_RSM,
             absorption: 0.0,
             scattering: 0.0,
-            extinction: Extinction::Thesis,
+            extinction: Extinction::Physical,
             blocking_lobe: BlockingLobe::TwoSided,
             blocking_strength: 1.0,
             first_step_unblocked: true,
@@ -232,8 +234,10 @@ crate::push_constants! {
 }
 
 crate::push_constants! {
-    struct CountPush {
+    struct CompensatePush {
         count: u32,
+        keep_dc: f32,
+        keep_directional: f32,
     }
 }
 
@@ -279,15 +283,21 @@ const Z_PAD: u32 = 1;
 /// Workgroup of the naive kernels.
 const NAIVE_GROUP: [u32; 3] = [4, 4, 4];
 
-/// Shared memory a tile of `t` cells needs: light and geometry, one-cell halo, z padded.
-pub fn tile_shared_bytes(t: [u32; 3]) -> u32 {
-    2 * 16 * (t[0] + 2) * (t[1] + 2) * (t[2] + 2 + Z_PAD)
+/// Shared memory a tile of `t` cells needs: light (one word per cell) and `geometry_words`
+/// words of geometry per cell, one-cell halo, z padded.
+pub fn tile_shared_bytes(t: [u32; 3], geometry_words: u32) -> u32 {
+    (1 + geometry_words) * 16 * (t[0] + 2) * (t[1] + 2) * (t[2] + 2 + Z_PAD)
 }
 
 /// The largest candidate tile that fits `shared_bytes` and `max_invocations`.
-pub fn choose_tile(shared_bytes: u32, max_invocations: u32) -> Option<[u32; 3]> {
+pub fn choose_tile(
+    shared_bytes: u32,
+    max_invocations: u32,
+    geometry_words: u32,
+) -> Option<[u32; 3]> {
     TILE_CANDIDATES.into_iter().find(|t| {
-        tile_shared_bytes(*t) <= shared_bytes && t.iter().product::<u32>() <= max_invocations
+        tile_shared_bytes(*t, geometry_words) <= shared_bytes
+            && t.iter().product::<u32>() <= max_invocations
     })
 }
 
@@ -351,18 +361,18 @@ impl Lpv {
         let faces = FaceScheme::compute();
         let strength = f64::from(settings.blocking_strength);
         (setup.progress)("geometry lattice", 0.5);
-        let geometry_cells: Vec<DVec4> =
+        let geometry_cells =
             geometry::build(&scene.mesh, &lattice, &transfer, settings.blocking_lobe)
-                .into_iter()
-                .map(|c| c * strength)
-                .collect();
+                .scaled(strength);
+        let geometry_words = settings.blocking_lobe.words_per_cell() as u32;
         (setup.progress)("geometry lattice", 1.0);
 
         let shared = gpu.info.max_shared_memory_bytes;
         let (tile, propagate_spirv) = match (settings.scheme, settings.tiled) {
             (scheme, true) => {
                 let tile =
-                    choose_tile(shared, gpu.info.max_workgroup_invocations).ok_or_else(|| {
+                    choose_tile(shared, gpu.info.max_workgroup_invocations, geometry_words)
+                        .ok_or_else(|| {
                         anyhow::anyhow!("no propagation tile fits {shared} bytes of shared memory")
                     })?;
                 let spirv = match scheme {
@@ -377,7 +387,8 @@ impl Lpv {
         let mut spec = Specialization::new()
             .with_u32(0, tile[0])
             .with_u32(1, tile[1])
-            .with_u32(2, tile[2]);
+            .with_u32(2, tile[2])
+            .with_u32(4, geometry_words);
         if settings.tiled {
             spec = spec.with_u32(3, Z_PAD);
         }
@@ -402,10 +413,7 @@ impl Lpv {
             lattice_buffer("accumulation G".into())?,
             lattice_buffer("accumulation B".into())?,
         ];
-        let geometry_f32: Vec<[f32; 4]> = geometry_cells
-            .iter()
-            .map(|c| c.as_vec4().to_array())
-            .collect();
+        let geometry_f32 = geometry_cells.to_f32();
         let neighbours: Vec<GpuNeighbour> = transfer
             .neighbours
             .iter()
@@ -493,6 +501,10 @@ impl Lpv {
         } else {
             [0, 1, 2].map(|c| &self.accumulation[c])
         }
+    }
+
+    fn geometry_words(&self) -> u32 {
+        self.settings.blocking_lobe.words_per_cell() as u32
     }
 
     fn reads_final(&self) -> bool {
@@ -647,7 +659,13 @@ impl Lpv {
         };
         match self.settings.scheme {
             Scheme::Ilpv => {
-                if self.settings.clamp_compensation {
+                // With compensation the medium is applied there; the step only transports.
+                let (absorption, scattering) = if self.settings.clamp_compensation {
+                    let push = CompensatePush {
+                        count: cells,
+                        keep_dc: (1.0 - absorption) as f32,
+                        keep_directional: (1.0 - absorption - scattering) as f32,
+                    };
                     rec.compute(&ComputePass {
                         name: "compensate",
                         pipeline: &self.compensate_pipeline,
@@ -655,10 +673,13 @@ impl Lpv {
                             Binding::write(ids::COMPENSATE_CELLS, &pair[src]),
                             Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours),
                         ],
-                        push: &CountPush { count: cells },
+                        push: &push,
                         threads: [cells, 1, 1],
                     })?;
-                }
+                    (0.0, 0.0)
+                } else {
+                    (absorption, scattering)
+                };
                 let push = IlpvPush {
                     dims: self.dims(),
                     keep: (1.0 - absorption - scattering) as f32,
@@ -712,9 +733,18 @@ impl Lpv {
         Ok(())
     }
 
-    /// Replace the geometry (blocking) lattice.
-    pub fn load_geometry(&mut self, gpu: &Gpu, cells: &[[f32; 4]]) -> GpuResult<()> {
-        gpu.write_buffer(&self.geometry, bytemuck::cast_slice(cells))
+    /// Replace the geometry (blocking) lattice; it must be of the settings' blocking lobe.
+    pub fn load_geometry(&mut self, gpu: &Gpu, geometry: &GeometryLattice) -> anyhow::Result<()> {
+        let expected = self.lattice.cell_count() * self.settings.blocking_lobe.words_per_cell();
+        if geometry.lobe != self.settings.blocking_lobe || geometry.words.len() != expected {
+            anyhow::bail!(
+                "a {:?} geometry lattice of {} words where the method holds {:?} with {expected}",
+                geometry.lobe,
+                geometry.words.len(),
+                self.settings.blocking_lobe
+            );
+        }
+        Ok(gpu.write_buffer(&self.geometry, bytemuck::cast_slice(&geometry.to_f32()))?)
     }
 
     /// Propagate the loaded lattices `settings.iterations` steps (no RSM, injection or blend).
@@ -837,8 +867,8 @@ impl GiMethod for Lpv {
             pass: PROPAGATE,
             unit: "cell",
             units: self.lattice.cell_count(),
-            bytes_per_unit: cost::bytes_per_cell(self.settings.scheme, true),
-            flops_per_unit: cost::flops_per_cell(self.settings.scheme),
+            bytes_per_unit: cost::bytes_per_cell(self.settings.scheme, true, self.geometry_words()),
+            flops_per_unit: cost::flops_per_cell(self.settings.scheme, self.geometry_words()),
         })
     }
     fn describe(&self) -> Vec<String> {
@@ -849,7 +879,7 @@ impl GiMethod for Lpv {
                 self.tile[0],
                 self.tile[1],
                 self.tile[2],
-                tile_shared_bytes(self.tile),
+                tile_shared_bytes(self.tile, self.geometry_words()),
                 self.device_shared_bytes
             )
         } else {

@@ -5,7 +5,9 @@
 //!   (stochastic rejection sampling with a fixed seed), all scaled by one κ that a golden-section
 //!   search picks so that one clamped propagation step conserves the energy of the
 //!   distributions propagation produces (lobes propagated a few steps: `propagated_distributions`);
-//!   outscattering fractions γ_j = Γ_j.x / Σ Γ_k.x (= 1/26).
+//!   outscattering weights γ_j ∝ Γ_j.x, normalised so that the light a step scatters in,
+//!   Σ_j ⟨Γ_j γ_j|1⟩ times the out-scattered energy, is exactly that energy: what the medium
+//!   does not absorb it keeps (the thesis's γ_j = 1/26 kept 2√π κ C0 = 0.695 of it).
 //! * 6-neighbour (Kaplanyan & Dachsbacher 2010): for each axis, the 5 faces of the destination
 //!   cell other than the shared one, with the direction from the source centre to each face
 //!   centre, its exact solid angle, and the normal the flux is re-emitted along.
@@ -211,14 +213,15 @@ impl TransferVectors {
             1e-6,
         );
         let residual = energy_change(kappa, &unscaled, &calibration);
-        let dc_sum: f64 = unscaled.iter().map(|g| g.x * kappa).sum();
+        // Σ_j γ_j ⟨Γ_j|1⟩ = 1 with γ_j ∝ Γ_j.x.
+        let dc_squares: f64 = unscaled.iter().map(|g| (g.x * kappa).powi(2)).sum();
         let neighbours = offsets
             .iter()
             .zip(&unscaled)
             .map(|(&offset, &g)| Neighbour {
                 offset,
                 transfer: g * kappa,
-                outscatter: g.x * kappa / dc_sum,
+                outscatter: g.x * kappa / (sh::SQRT_PI_2 * dc_squares),
             })
             .collect();
         TransferVectors {
@@ -285,9 +288,10 @@ mod tests {
         assert!(t.residual.abs() < 1e-4, "residual {}", t.residual);
         assert!((10..=40).contains(&t.probes), "probes {}", t.probes);
         for n in &t.neighbours {
-            // Every Γ̂ has DC exactly c0, so Γ_x = κ c0 and γ_j = 1/26.
+            // Every Γ̂ has DC exactly c0, so Γ_x = κ c0, and the in-scattered light keeps the
+            // out-scattered energy: 26 γ ⟨Γ|1⟩ = 1.
             assert!((n.transfer.x - t.kappa * sh::C0).abs() < 1e-12);
-            assert!((n.outscatter - 1.0 / 26.0).abs() < 1e-12);
+            assert!((26.0 * n.outscatter * sh::energy(n.transfer) - 1.0).abs() < 1e-12);
         }
         // Mean-direction lengths |lin|/c1 for face, edge, corner (spec table: .9427/.9723/.9822).
         let length = |o: IVec3| {
