@@ -607,7 +607,7 @@ fn with_point_light(
         mesh,
         base.materials.clone(),
         vec![point],
-        base.camera.clone(),
+        base.camera,
     )
     .unwrap()
 }
