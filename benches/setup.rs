@@ -32,9 +32,15 @@ fn geometry_lattice(c: &mut Criterion) {
                 Ok(l) => l,
                 Err(e) => panic!("{e}"),
             };
-            c.bench_function(&format!("geometry lattice {name} {cells}"), |b| {
-                b.iter(|| geometry::build(&scene.mesh, &lattice, &transfer, BlockingLobe::Oriented))
-            });
+            for lobe in [
+                BlockingLobe::TwoSided,
+                BlockingLobe::Oriented,
+                BlockingLobe::Visibility,
+            ] {
+                c.bench_function(&format!("geometry lattice {name} {cells} {lobe:?}"), |b| {
+                    b.iter(|| geometry::build(&scene.mesh, &lattice, &transfer, lobe))
+                });
+            }
         }
     }
 }

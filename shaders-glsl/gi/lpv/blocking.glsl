@@ -1,45 +1,52 @@
 #ifndef VKGI_LPV_BLOCKING_GLSL
 #define VKGI_LPV_BLOCKING_GLSL
-// The blocking function of a geometry-lattice cell (src/gi/lpv/geometry.rs
-// GeometryLattice::blocking). GEOMETRY_WORDS words per cell: 1 holds the thesis's SH lobe B,
-// which blocks ⟨B|Γ⟩ of a transfer; 3 hold the projected-area model of src/gi/lpv/projected.rs
-// (normal tensor M, outward moment V, axis moments S as (Mxx, Myy, Mzz, Mxy),
-// (Mxz, Myz, Vx, Vy), (Vz, Sx, Sy, Sz)), which blocks ½(min(√(tr M · oᵀMo), S·|o|) + V·o) of the
-// transfer to the neighbour at offset o: the area the surfaces show the direction of travel
-// times the distance travelled, one-way for surfaces facing the void.
+// The blocking function of the geometry lattice (src/gi/lpv/geometry.rs
+// GeometryLattice::blocking), selected by GEOMETRY_WORDS, the words per cell:
+// 1: the thesis's SH lobe B, which blocks ⟨B|Γ⟩ of a transfer;
+// 3: the projected-area model of src/gi/lpv/projected.rs (normal tensor M, outward moment V, axis
+//    moments S as (Mxx, Myy, Mzz, Mxy), (Mxz, Myz, Vx, Vy), (Vz, Sx, Sy, Sz)), which blocks
+//    ½(min(√(tr M · oᵀMo), S·|o|) + V·o) of the transfer to the neighbour at offset o: the area the
+//    surfaces show the direction of travel times the distance travelled;
+// 4: the visibility model of src/gi/lpv/visibility.rs: 13 entries per cell, 1 where the segment
+//    between the centres of the cell and its upper-half neighbour crosses a surface.
 
 layout(constant_id = 4) const uint GEOMETRY_WORDS = 1u;
 
 struct GeometryWords {
-    vec4 first;
-    vec4 second;  // zero with one word per cell
-    vec4 third;   // zero with one word per cell
+    vec4 w[4];  // the first GEOMETRY_WORDS hold the cell's words, the rest zero
 };
 
 GeometryWords no_geometry() {
-    return GeometryWords(vec4(0.0), vec4(0.0), vec4(0.0));
+    return GeometryWords(vec4[4](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0)));
 }
 
 GeometryWords mean_geometry(GeometryWords a, GeometryWords b) {
-    return GeometryWords(0.5 * (a.first + b.first), 0.5 * (a.second + b.second),
-                         0.5 * (a.third + b.third));
+    GeometryWords m;
+    [[unroll]] for (int i = 0; i < 4; ++i) m.w[i] = 0.5 * (a.w[i] + b.w[i]);
+    return m;
 }
 
 // How much of the transfer with transfer vector `transfer` to the neighbour at `offset` the
-// geometry blocks, before the clamp to [0, 1].
-float blocking_of(GeometryWords g, vec4 transfer, vec3 offset) {
+// geometry blocks, from the words of its source and its destination, before the clamp to [0, 1].
+float blocking_of(GeometryWords source, GeometryWords destination, vec4 transfer, ivec3 offset) {
+    if (GEOMETRY_WORDS == 4u) {
+        int i = (offset.x + 1) + 3 * (offset.y + 1) + 9 * (offset.z + 1);
+        int k = i > 13 ? i - 14 : 12 - i;
+        vec4 word = i > 13 ? source.w[k / 4] : destination.w[k / 4];
+        return word[k % 4];
+    }
     if (GEOMETRY_WORDS == 3u) {
-        vec4 m = g.first;
-        vec4 mv = g.second;
-        vec4 vs = g.third;
-        vec3 o = offset;
+        vec4 m = source.w[0];
+        vec4 mv = source.w[1];
+        vec4 vs = source.w[2];
+        vec3 o = vec3(offset);
         float trace = m.x + m.y + m.z;
         float along = dot(o * o, m.xyz) + 2.0 * (o.x * o.y * m.w + o.x * o.z * mv.x + o.y * o.z * mv.y);
         float tensor = sqrt(max(trace * along, 0.0));
         float axes = dot(vs.yzw, abs(o));
         return 0.5 * (min(tensor, axes) + dot(vec3(mv.zw, vs.x), o));
     }
-    return dot(g.first, transfer);
+    return dot(source.w[0], transfer);
 }
 
 #endif

@@ -40,13 +40,14 @@ void main() {
     prepare_sources();
     ivec3 cell = ivec3(gl_GlobalInvocationID);
     if (!lattice_inside(cell, pc.dims.xyz)) return;
+    GeometryWords own_geometry = source_geometry(cell, ivec3(0));
     vec4 dst = vec4(0.0);
     // Unrolled: every neighbour offset (the same x-fastest order as transfer.rs) is a constant.
     [[unroll]] for (int d = 0; d < 26; ++d) {
         Neighbour n = neighbours[d];
         ivec3 offset = neighbour_offset(d);
         vec4 src = source_light(cell, -offset);
-        float blocked = blocking_of(source_geometry(cell, -offset), n.transfer, vec3(offset));
+        float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, n.transfer, offset);
         float outscattered = src.x * pc.scatter_energy;
         float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
         float factor = (max(pc.keep * dot(src, n.transfer), 0.0) + outscattered * n.outscatter) * blocking;

@@ -5,7 +5,8 @@
 // (blocking.glsl): the thesis's SH lobes use the mean geometry of source and destination (the
 // shared face, as KD10's half-cell-offset geometry volume); the projected-area models the
 // source's, like ILPV: light crosses a wall in the cell that holds it, a one-way wall blocks
-// light leaving through it and not light on its way to it. src/gi/lpv/cpu.rs step_6 is the same in f64.
+// light leaving through it and not light on its way to it; visibility the segment between the
+// two centres. src/gi/lpv/cpu.rs step_6 is the same in f64.
 // Included by lpv/lpv_tiled.comp and lpv/lpv_naive.comp.
 
 #extension GL_EXT_control_flow_attributes : require
@@ -45,8 +46,9 @@ void main() {
         ivec3 offset = axes[a].offset.xyz;
         vec4 src = source_light(cell, -offset);
         GeometryWords source = source_geometry(cell, -offset);
-        GeometryWords blocker = GEOMETRY_WORDS == 1u ? mean_geometry(source, own_geometry) : source;
-        float blocked = blocking_of(blocker, axes[a].blocking_transfer, vec3(offset));
+        GeometryWords blocker = source;
+        if (GEOMETRY_WORDS == 1u) blocker = mean_geometry(source, own_geometry);
+        float blocked = blocking_of(blocker, own_geometry, axes[a].blocking_transfer, offset);
         float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
         [[unroll]] for (int f = 0; f < 5; ++f) {
             float flux = max(dot(src, axes[a].faces[f].evaluation), 0.0) * blocking;

@@ -55,11 +55,7 @@ vec4 source_light(ivec3 cell, ivec3 offset) {
 GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     uint t = tile_index(ivec3(gl_LocalInvocationID) + 1 + offset) * GEOMETRY_WORDS;
     GeometryWords g = no_geometry();
-    g.first = tile_geometry[t];
-    if (GEOMETRY_WORDS == 3u) {
-        g.second = tile_geometry[t + 1u];
-        g.third = tile_geometry[t + 2u];
-    }
+    for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = tile_geometry[t + w];
     return g;
 }
 #else
@@ -75,11 +71,7 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     GeometryWords g = no_geometry();
     if (lattice_inside(c, pc.dims.xyz)) {
         uint k = lattice_index(c, pc.dims.xyz);
-        g.first = stored_geometry(k, 0u);
-        if (GEOMETRY_WORDS == 3u) {
-            g.second = stored_geometry(k, 1u);
-            g.third = stored_geometry(k, 2u);
-        }
+        for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = stored_geometry(k, w);
     }
     return g;
 }

@@ -3,24 +3,29 @@
 //!
 //! ILPV (26 neighbours): the gather reads the light SH and the geometry of the cell and its
 //! neighbours; with perfect reuse each cell's light (16 B) and geometry (16 B for an SH lobe,
-//! 48 B for the projected-area model) are read once and its result written once (16 B), plus a
-//! read-modify-write of the accumulation (32 B) when accumulating. Per neighbour: ⟨src|Γ⟩ 7,
-//! the blocking function (⟨B|Γ⟩ 7; the projected area: oᵀMo 12, the trace 2, the product and
-//! the root 2, S·|o| 5, the min 1, V·o 5, the sum and half 2: 29), the outscattered energy 1,
-//! the clamp 2, the factor 4 (mul, fma, mul, max) and dst += Γ·f 8: 29 flops with an SH lobe
-//! (754 per cell), 51 with the projected area (1326).
+//! 48 B for the projected-area model, 64 B for visibility) are read once and its result written
+//! once (16 B), plus a read-modify-write of the accumulation (32 B) when accumulating. Per
+//! neighbour: ⟨src|Γ⟩ 7, the blocking function (⟨B|Γ⟩ 7; the projected area: oᵀMo 12, the trace
+//! 2, the product and the root 2, S·|o| 5, the min 1, V·o 5, the sum and half 2: 29; visibility:
+//! picking the entry 2), the outscattered energy 1, the clamp 2, the factor 4 (mul, fma, mul, max)
+//! and dst += Γ·f 8: 29 flops with an SH lobe (754 per cell), 51 with the projected area (1326),
+//! 24 with visibility (624).
 //!
 //! LPV (6 neighbours, 5 faces): the same bytes (light and geometry read, result written, the
 //! accumulation read and written every step). Per face ⟨src|eval⟩ 7, max 1, blocking 1,
-//! dst += lobe·flux 8: 17; per axis 5 faces plus blocking (mean geometry 5 per word, the
-//! blocking function, clamp 2): 99 with an SH lobe (594 per cell), 131 with the projected area
-//! (786).
+//! dst += lobe·flux 8: 17; per axis 5 faces plus blocking (the mean geometry of two cells 5 with
+//! an SH lobe, the blocking function, clamp 2): 99 with an SH lobe (594 per cell), 116 with the
+//! projected area (696), 89 with visibility (534).
 
 use super::technique::Scheme;
 
 /// Flops of the blocking function for geometry of `geometry_words` words per cell.
 fn blocking_flops(geometry_words: u32) -> f64 {
-    if geometry_words == 1 { 7.0 } else { 29.0 }
+    match geometry_words {
+        1 => 7.0,
+        3 => 29.0,
+        _ => 2.0,
+    }
 }
 
 /// Bytes a step must move per cell at the ideal (each cell read and written once).
@@ -39,7 +44,10 @@ pub fn flops_per_cell(scheme: Scheme, geometry_words: u32) -> f64 {
     let blocking = blocking_flops(geometry_words);
     match scheme {
         Scheme::Ilpv => 26.0 * (22.0 + blocking),
-        Scheme::Lpv => 6.0 * (5.0 * 17.0 + 5.0 * f64::from(geometry_words) + blocking + 2.0),
+        Scheme::Lpv => {
+            let mean = if geometry_words == 1 { 5.0 } else { 0.0 };
+            6.0 * (5.0 * 17.0 + mean + blocking + 2.0)
+        }
     }
 }
 
@@ -52,9 +60,12 @@ mod tests {
         assert_eq!(flops_per_cell(Scheme::Ilpv, 1), 754.0);
         assert_eq!(flops_per_cell(Scheme::Lpv, 1), 594.0);
         assert_eq!(flops_per_cell(Scheme::Ilpv, 3), 1326.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 3), 786.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 3), 696.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, 4), 624.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 4), 534.0);
         assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 1), 48.0);
         assert_eq!(bytes_per_cell(Scheme::Lpv, true, 1), 80.0);
         assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3), 80.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 4), 96.0);
     }
 }

@@ -123,7 +123,8 @@ pub fn step_26(
         for n in &t.neighbours {
             let s = c - n.offset;
             let l = fetch(lattice, src, s);
-            let b = geometry.blocking(geometry.words_at(lattice, s), n.transfer, n.offset.as_dvec3());
+            let (source, destination) = (geometry.words_at(lattice, s), geometry.words_at(lattice, c));
+            let b = geometry.blocking(source, destination, n.transfer, n.offset);
             let outscattered = l.x * scatter;
             let blocking = (1.0 - use_blocking * b).clamp(0.0, 1.0);
             let factor =
@@ -155,7 +156,7 @@ pub fn step_6(
             let l = fetch(lattice, src, s);
             let (a, b) = (geometry.words_at(lattice, s), geometry.words_at(lattice, c));
             let blocker = if geometry.lobe.words_per_cell() == 1 {
-                [0, 1, 2].map(|w| (a[w] + b[w]) * 0.5)
+                [0, 1, 2, 3].map(|w| (a[w] + b[w]) * 0.5)
             } else {
                 a
             };
@@ -164,7 +165,7 @@ pub fn step_6(
                 .iter()
                 .find(|n| n.offset == *axis)
                 .map_or(DVec4::ZERO, |n| n.transfer);
-            let b = geometry.blocking(blocker, face_transfer, axis.as_dvec3());
+            let b = geometry.blocking(blocker, b, face_transfer, *axis);
             let blocking = (1.0 - use_blocking * b).clamp(0.0, 1.0);
             for f in axis_faces {
                 let flux = f.solid_angle * l.dot(sh::basis(f.direction)).max(0.0) * blocking;

@@ -64,9 +64,9 @@ const EXTINCTION: Setting = Setting::new(
 );
 const BLOCKING_LOBE: Setting = Setting::new(
     "blocking-lobe",
-    Kind::Choice(&["two-sided", "oriented", "projected", "front", "back", "none"]),
+    Kind::Choice(&["two-sided", "oriented", "projected", "visibility", "front", "back", "none"]),
     "two-sided",
-    "What a surface adds to the geometry (blocking) lattice: its area projected on the direction of travel, one-way toward the void where one of its sides faces it (oriented) or both ways (projected), or one of the thesis's SH lobes",
+    "What a surface adds to the geometry (blocking) lattice: its area projected on the direction of travel, one-way toward the void where one of its sides faces it (oriented) or both ways (projected), whether the segment between cell centres crosses a surface (visibility), or one of the thesis's SH lobes",
 );
 const BLOCKING_STRENGTH: Setting = Setting::new(
     "blocking-strength",
@@ -216,6 +216,7 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         "none" => BlockingLobe::None,
         "oriented" => BlockingLobe::Oriented,
         "projected" => BlockingLobe::Projected,
+        "visibility" => BlockingLobe::Visibility,
         _ => BlockingLobe::TwoSided,
     };
     let ilpv_lookup = match s.has("ilpv-lookup").then(|| s.text("ilpv-lookup")).transpose()? {

@@ -19,6 +19,9 @@
 //!   (docs/lpv.md): its over-blocking darkens the light that 2-band lobes send along surfaces,
 //!   which the lookup would otherwise read as the surfaces lighting themselves.
 //!
+//! * **Visibility** ([`super::visibility`], four words per cell): a transfer is blocked when the
+//!   segment between the two cells' centres crosses a surface: watertight for closed surfaces.
+//!
 //! Densities are normalised so that a surface filling a cell's cross-section, facing the
 //! direction of propagation, blocks a face-neighbour transfer completely.
 
@@ -29,6 +32,7 @@ use glam::{DVec3, DVec4, IVec3};
 use super::lattice::Lattice;
 use super::projected;
 use super::transfer::TransferVectors;
+use super::visibility;
 use super::void_side::Occupancy;
 use crate::gi::shared::sh;
 use crate::scene::Mesh;
@@ -40,6 +44,8 @@ pub enum BlockingLobe {
     Oriented,
     /// The projected area, both ways everywhere.
     Projected,
+    /// Whether the segment between the cells' centres crosses a surface.
+    Visibility,
     /// SH_cos(N): blocks light travelling along the stored normal (the thesis code).
     Front,
     /// SH_cos(-N): blocks light travelling against the stored normal.
@@ -55,6 +61,7 @@ impl BlockingLobe {
     pub fn words_per_cell(self) -> usize {
         match self {
             BlockingLobe::Oriented | BlockingLobe::Projected => projected::WORDS,
+            BlockingLobe::Visibility => visibility::WORDS,
             _ => 1,
         }
     }
@@ -68,7 +75,7 @@ pub struct GeometryLattice {
 }
 
 /// The words of one cell, padded with zeros to the widest model.
-pub type CellWords = [DVec4; projected::WORDS];
+pub type CellWords = [DVec4; visibility::WORDS];
 
 impl GeometryLattice {
     /// A lattice of `cells` cells that blocks nothing.
@@ -97,11 +104,22 @@ impl GeometryLattice {
     }
 
     /// How much of a transfer to the neighbour at `offset` (in cells), with transfer vector
-    /// `transfer`, geometry `words` block (before the step clamps it to [0, 1]).
-    pub fn blocking(&self, words: CellWords, transfer: DVec4, offset: DVec3) -> f64 {
+    /// `transfer`, is blocked, from the geometry words of its source and its destination (before
+    /// the step clamps it to [0, 1]).
+    pub fn blocking(
+        &self,
+        source: CellWords,
+        destination: CellWords,
+        transfer: DVec4,
+        offset: IVec3,
+    ) -> f64 {
         match self.lobe {
-            BlockingLobe::Oriented | BlockingLobe::Projected => projected::blocking(words, offset),
-            _ => words[0].dot(transfer),
+            BlockingLobe::Oriented | BlockingLobe::Projected => {
+                let [a, b, c, _] = source;
+                projected::blocking([a, b, c], offset.as_dvec3())
+            }
+            BlockingLobe::Visibility => visibility::blocking(&source, &destination, offset),
+            _ => source[0].dot(transfer),
         }
     }
 
@@ -199,15 +217,20 @@ fn unit_density_words(
     norm: f64,
     outward: impl FnOnce() -> Option<DVec3>,
 ) -> Option<CellWords> {
+    let projected_words = |[a, b, c]: [DVec4; projected::WORDS]| [a, b, c, DVec4::ZERO];
     let sh_lobe = match lobe {
-        BlockingLobe::Oriented => return Some(projected::surface_words(normal, outward())),
-        BlockingLobe::Projected => return Some(projected::surface_words(normal, None)),
+        BlockingLobe::Oriented => {
+            return Some(projected_words(projected::surface_words(normal, outward())));
+        }
+        BlockingLobe::Projected => {
+            return Some(projected_words(projected::surface_words(normal, None)));
+        }
         BlockingLobe::Front => sh::cosine_lobe(normal),
         BlockingLobe::Back => sh::cosine_lobe(-normal),
         BlockingLobe::TwoSided => sh::cosine_lobe(normal) + sh::cosine_lobe(-normal),
-        BlockingLobe::None => return None,
+        BlockingLobe::Visibility | BlockingLobe::None => return None,
     };
-    Some([sh_lobe * norm, DVec4::ZERO, DVec4::ZERO])
+    Some([sh_lobe * norm, DVec4::ZERO, DVec4::ZERO, DVec4::ZERO])
 }
 
 /// The geometry lattice of `mesh`.
@@ -217,6 +240,12 @@ pub fn build(
     transfer: &TransferVectors,
     lobe: BlockingLobe,
 ) -> GeometryLattice {
+    if lobe == BlockingLobe::Visibility {
+        return GeometryLattice {
+            lobe,
+            words: visibility::build(mesh, lattice),
+        };
+    }
     let mut out = GeometryLattice::empty(lobe, lattice.cell_count());
     let mut occupancy = Occupancy::new(lattice);
     if lobe == BlockingLobe::Oriented {
@@ -278,7 +307,7 @@ mod tests {
         let n = t.neighbours.iter().find(|n| n.offset == offset).unwrap();
         let lattice = Lattice::fit(Vec3::ZERO, Vec3::new(2.0, 1.0, 1.0), 2).unwrap();
         let words = g.words_at(&lattice, IVec3::ZERO);
-        g.blocking(words, n.transfer, offset.as_dvec3())
+        g.blocking(words, g.words_at(&lattice, offset), n.transfer, offset)
     }
 
     #[test]

@@ -11,6 +11,7 @@ pub mod lattice;
 pub mod projected;
 pub mod technique;
 pub mod transfer;
+pub mod visibility;
 pub mod void_side;
 
 pub use entry::METHODS;
