@@ -228,6 +228,26 @@ fn steps_on_gpu(
     out
 }
 
+/// The relative energy change of each of `steps` GPU steps from `start`, one injected cell in
+/// the lattice's middle.
+fn energy_change_per_step(
+    gpu: &vkgi::gpu::Gpu,
+    lpv: &mut Lpv,
+    start: &[DVec4],
+    steps: usize,
+) -> Vec<f64> {
+    let mut previous = sh::energy(start[lpv.lattice.index(lpv.lattice.dims / 2)]);
+    steps_on_gpu(gpu, lpv, start, steps)
+        .iter()
+        .map(|lattice| {
+            let e = energy(lattice);
+            let change = e / previous - 1.0;
+            previous = e;
+            change
+        })
+        .collect()
+}
+
 fn energy(cells: &[[f32; 4]]) -> f64 {
     cells
         .iter()
@@ -265,12 +285,11 @@ fn ilpv_steps_conserve_the_energy_of_one_injected_cell() {
     )
     .unwrap();
     let start = one_lobe(&lpv);
-    let mut previous = sh::energy(start[lpv.lattice.index(lpv.lattice.dims / 2)]);
-    for (step, lattice) in steps_on_gpu(&gpu, &mut lpv, &start, 10).iter().enumerate() {
-        let e = energy(lattice);
-        let drift = (e / previous - 1.0).abs();
-        assert!(drift < 1e-3, "step {}: drift {drift:e}", step + 1);
-        previous = e;
+    for (step, drift) in energy_change_per_step(&gpu, &mut lpv, &start, 10)
+        .iter()
+        .enumerate()
+    {
+        assert!(drift.abs() < 1e-3, "step {}: drift {drift:e}", step + 1);
     }
     // The thesis's global κ alone: the clamp adds energy to a fresh lobe for a few steps, then
     // the drift falls to the thesis's 1e-4..1e-6 per step.
@@ -279,13 +298,7 @@ fn ilpv_steps_conserve_the_energy_of_one_injected_cell() {
         single_step_settings(Scheme::Ilpv, 24, false),
     )
     .unwrap();
-    let mut previous = sh::energy(start[lpv.lattice.index(lpv.lattice.dims / 2)]);
-    let mut drifts = Vec::new();
-    for lattice in steps_on_gpu(&gpu, &mut lpv, &start, 10) {
-        let e = energy(&lattice);
-        drifts.push(e / previous - 1.0);
-        previous = e;
-    }
+    let drifts = energy_change_per_step(&gpu, &mut lpv, &start, 10);
     eprintln!("per-step energy change without clamp compensation: {drifts:?}");
     assert!(
         (0.01..0.02).contains(&drifts[0]),
@@ -310,13 +323,7 @@ fn ilpv_scattering_without_absorption_conserves_energy() {
         let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
         let (_, lambda_s) = lpv.settings.medium(lpv.lattice.cell_size);
         let start = one_lobe(&lpv);
-        let mut previous = sh::energy(start[lpv.lattice.index(lpv.lattice.dims / 2)]);
-        let mut drifts = Vec::new();
-        for lattice in steps_on_gpu(&gpu, &mut lpv, &start, 10) {
-            let e = energy(&lattice);
-            drifts.push(e / previous - 1.0);
-            previous = e;
-        }
+        let drifts = energy_change_per_step(&gpu, &mut lpv, &start, 10);
         let worst = drifts.iter().fold(0.0f64, |m, d| m.max(d.abs()));
         eprintln!(
             "σs {scattering}/m (λs {lambda_s:.4}): largest energy change in a step {worst:.1e}"
@@ -595,25 +602,7 @@ fn with_point_light(
         .position(|m| m.name == "white")
         .unwrap() as u32;
     if let Some((min, max)) = sealed_in {
-        let corner = |i: usize| {
-            Vec3::select(
-                glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0),
-                max,
-                min,
-            )
-        };
-        for face in [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ] {
-            for tri in [[0, 1, 2], [0, 2, 3]] {
-                mesh.push_triangle(tri.map(|k| corner(face[k])), [Vec3::ZERO; 3], white);
-            }
-        }
+        mesh.push_cuboid(min, max, white);
     }
     let point = vkgi::scene::Light {
         position: light,

@@ -20,7 +20,7 @@ pub mod texture;
 use std::path::Path;
 use std::sync::Arc;
 
-use glam::{Vec2, Vec3};
+use glam::{BVec3, Vec2, Vec3};
 
 pub use camera::Camera;
 pub use light::{Light, LightKind};
@@ -121,6 +121,26 @@ impl Mesh {
         self.texcoords.extend([Vec2::ZERO; 3]);
         self.indices.push([first, first + 1, first + 2]);
         self.materials.push(material);
+    }
+
+    /// Append the six faces of the axis-aligned box `min`..`max` (two triangles each, flat,
+    /// wound outward).
+    pub fn push_cuboid(&mut self, min: Vec3, max: Vec3, material: u32) {
+        let corner =
+            |i: usize| Vec3::select(BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), max, min);
+        let faces = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        for face in faces {
+            for tri in [[0, 1, 2], [0, 2, 3]] {
+                self.push_triangle(tri.map(|k| corner(face[k])), [Vec3::ZERO; 3], material);
+            }
+        }
     }
 
     pub fn bounds(&self) -> (Vec3, Vec3) {
@@ -582,6 +602,27 @@ mod tests {
         );
         let err = Scene::framed("s".into(), tiny_far, material()).unwrap_err();
         assert!(err.0.contains("cannot resolve"), "{err}");
+    }
+
+    #[test]
+    fn a_cuboid_is_closed_and_wound_outward() {
+        let mut mesh = Mesh::default();
+        let (min, max) = (Vec3::new(-1.0, 0.0, 2.0), Vec3::new(1.0, 3.0, 2.5));
+        mesh.push_cuboid(min, max, 0);
+        assert_eq!(mesh.triangle_count(), 12);
+        let centre = 0.5 * (min + max);
+        let mut area = 0.0;
+        for t in 0..12 {
+            let [a, b, c] = mesh.triangle(t);
+            let n = (b - a).cross(c - a);
+            assert!(
+                n.dot((a + b + c) / 3.0 - centre) > 0.0,
+                "triangle {t} faces inward"
+            );
+            area += 0.5 * n.length();
+        }
+        let e = max - min;
+        assert!((area - 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)).abs() < 1e-5);
     }
 
     #[test]

@@ -116,15 +116,7 @@ mod tests {
         // A 4 x 4 x 4 lattice of unit cells; a closed box around the centres of cells 1..=2.
         let lattice = Lattice::fit(Vec3::ZERO, Vec3::splat(4.0), 4).unwrap();
         let mut mesh = Mesh::default();
-        let (min, max) = (Vec3::splat(1.2), Vec3::splat(2.8));
-        let corner = |i: usize| {
-            Vec3::select(glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0), max, min)
-        };
-        for face in [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]] {
-            for tri in [[0, 1, 2], [0, 2, 3]] {
-                mesh.push_triangle(tri.map(|k| corner(face[k])), [Vec3::ZERO; 3], 0);
-            }
-        }
+        mesh.push_cuboid(Vec3::splat(1.2), Vec3::splat(2.8), 0);
         let words = build(&mesh, &lattice);
         let cell = |c: IVec3| &words[lattice.index(c.as_uvec3()) * WORDS..][..WORDS];
         let inside = |c: IVec3| c.cmpge(IVec3::ONE).all() && c.cmple(IVec3::splat(2)).all();
