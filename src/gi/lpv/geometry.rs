@@ -1,29 +1,24 @@
-//! The geometry (blocking) lattice of seed 000: every scene triangle is sampled uniformly (a
-//! fixed-seed stream per triangle, rejection from the parallelogram as in the thesis), and each
-//! sample adds its area density `(A/n)/d²` to the cell containing it (no half-cell offset), as a
-//! blocking function of the direction light travels. The result is view-independent and has no
-//! holes.
-//!
-//! Two families of blocking functions ([`BlockingLobe`]):
-//! * **Projected area** ([`super::projected`], three words per cell): a surface blocks the area
-//!   it shows the direction of travel, times the distance travelled: a wall blocks light crossing
-//!   it and not light running along it. `oriented` makes a surface one-way where one of its
-//!   sides faces the void ([`super::void_side`]): a room's walls and floor then block only light
-//!   leaving the room. `projected` blocks both ways everywhere.
-//! * **The thesis's SH lobes** (one word): `front` SH_cos(N) (the thesis code), `back`
-//!   SH_cos(-N), or `two-sided` (the default) SH_cos(N) + SH_cos(-N), evaluated as ⟨B|Γ_d⟩. In
-//!   2-band SH a one-sided lobe still blocks a grazing transfer at about half its head-on
-//!   strength, and the two-sided sum cancels the linear band, so it blocks every direction alike
-//!   (about 0.89 of any transfer through a cell-filling surface, grazing ones included). It is
-//!   the default because it is the more accurate on three of the four scenes measured
-//!   (docs/lpv.md): its over-blocking darkens the light that 2-band lobes send along surfaces,
-//!   which the lookup would otherwise read as the surfaces lighting themselves.
-//!
+//! The geometry (blocking) lattice of seed 000, view-independent and without holes. Three
+//! families of blocking functions ([`BlockingLobe`]):
+//! * **The thesis's SH lobes** (one word per cell): every scene triangle is sampled uniformly (a
+//!   fixed-seed stream per triangle, rejection from the parallelogram as in the thesis), and each
+//!   sample adds its area density `(A/n)/d²` times the lobe to the cell containing it (no
+//!   half-cell offset): `front` SH_cos(N) (the thesis code), `back` SH_cos(-N), or `two-sided`
+//!   (the default) SH_cos(N) + SH_cos(-N), evaluated as ⟨B|Γ_d⟩ and normalised so that a surface
+//!   filling a cell's cross-section, facing the direction of propagation, blocks a face-neighbour
+//!   transfer completely. In 2-band SH a one-sided lobe still blocks a grazing transfer at about
+//!   half its head-on strength, and the two-sided sum cancels the linear band, so it blocks every
+//!   direction alike (about 0.89 of any transfer through a cell-filling surface, grazing ones
+//!   included). It is the default because it is the more accurate on three of the four scenes
+//!   measured (docs/lpv.md): its over-blocking darkens the light that 2-band lobes send along
+//!   surfaces, which the lookup would otherwise read as the surfaces lighting themselves.
+//! * **Projected area** ([`super::projected`], three words per cell), from the same samples: a
+//!   surface blocks the area it shows the direction of travel, times the distance travelled: a
+//!   wall blocks light crossing it and not light running along it. `oriented` makes a surface
+//!   one-way where one of its sides faces the void ([`super::void_side`]): a room's walls and
+//!   floor then block only light leaving the room. `projected` blocks both ways everywhere.
 //! * **Visibility** ([`super::visibility`], four words per cell): a transfer is blocked when the
 //!   segment between the two cells' centres crosses a surface: watertight for closed surfaces.
-//!
-//! Densities are normalised so that a surface filling a cell's cross-section, facing the
-//! direction of propagation, blocks a face-neighbour transfer completely.
 
 use std::collections::HashMap;
 
