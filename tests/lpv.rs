@@ -832,7 +832,7 @@ fn ilpv_blends_incrementally_in_a_scene_lit_by_an_area_light_alone() {
         ..ilpv(8)
     };
     let (lpv, _) = run_ilpv_frames(&gpu, &scene, settings, 2);
-    let (a, b) = lpv.blend_weights();
+    let (a, b) = lpv.blend_weights(0);
     assert!(
         (a - 0.7).abs() < 1e-6 && (b - 0.3).abs() < 1e-6,
         "blend weights ({a}, {b})"
@@ -887,6 +887,60 @@ fn no_frame_flashes_above_the_settled_indirect_light() {
             highest <= 1.05 * settled,
             "λ {lambda}: a frame reaches {highest} against the settled {settled}"
         );
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// The mean of each colour channel of an image.
+fn channel_means(pixels: &[[f32; 3]]) -> [f64; 3] {
+    let mut sum = [0.0f64; 3];
+    for p in pixels {
+        for c in 0..3 {
+            sum[c] += f64::from(p[c]);
+        }
+    }
+    sum.map(|s| s / pixels.len() as f64)
+}
+
+#[test]
+fn ilpv_follows_a_dimmed_or_recoloured_light_from_the_next_frame() {
+    // Eq 3.4 scales the carried light by E_now / E_before (per colour channel here), so a light
+    // dimmed to half, or tinted, changes the indirect light in proportion at once; the blend
+    // alone would take about 1/(1-λ) = 10 frames to forget the old light.
+    let gpu = common::gpu();
+    let mut scene = Scene::load("cornell").unwrap();
+    let settings = LpvSettings {
+        incremental: 0.9,
+        rsm: 64,
+        ..LpvSettings::default()
+    };
+    let mut frame = vkgi::render::Frame::new(&gpu, &scene, common::indirect_only(32, 24)).unwrap();
+    let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
+    let mut ring = vkgi::gpu::frames::FrameRing::new(&gpu, 2).unwrap();
+    let mut render = |frame: &mut vkgi::render::Frame, lpv: &mut Lpv| {
+        frame.submit(&gpu, &mut ring, Some(lpv)).unwrap();
+        ring.finish().unwrap();
+        channel_means(&frame.read_hdr(&gpu).unwrap())
+    };
+    let mut settled = [0.0; 3];
+    for _ in 0..60 {
+        settled = render(&mut frame, &mut lpv);
+    }
+    scene.lights[0].flux *= 0.5;
+    frame.set_lights(&scene);
+    let dimmed = render(&mut frame, &mut lpv);
+    let ratios: Vec<f64> = (0..3).map(|c| dimmed[c] / settled[c]).collect();
+    scene.lights[0].color = glam::Vec3::new(1.0, 0.2, 0.2);
+    frame.set_lights(&scene);
+    let tinted = render(&mut frame, &mut lpv);
+    let tint_ratios: Vec<f64> = (0..3).map(|c| tinted[c] / dimmed[c]).collect();
+    eprintln!(
+        "indirect light the frame after: dimmed to half {ratios:.5?}, tinted (1, 0.2, 0.2) {tint_ratios:.5?}"
+    );
+    for c in 0..3 {
+        assert!((ratios[c] - 0.5).abs() < 1e-3, "{ratios:?}");
+        let expected = [1.0, 0.2, 0.2][c];
+        assert!((tint_ratios[c] - expected).abs() < 1e-3, "{tint_ratios:?}");
     }
     common::assert_no_validation_errors(&gpu);
 }

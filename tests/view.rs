@@ -232,6 +232,24 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
 }
 
 #[test]
+fn keys_dim_tint_and_aim_the_light_and_only_move_an_emitter() {
+    let dir = scratch("light-keys");
+    // Per frame on the Cornell box's spot: dim, brighten, tint, turn, tilt, and one frame with
+    // no key: five light updates.
+    let report = view_with_keys(&dir, &["--size", "32x24"], 6, "j,k,t,z,r,f1");
+    assert_eq!(pass_runs(&report, "update lights"), 5);
+    // cornell-area has only its ceiling emitter: J, K and T change nothing (one line says so).
+    let dir = scratch("emitter-keys");
+    let report = view_with_keys(
+        &dir,
+        &["--scene", "cornell-area", "--size", "32x24"],
+        3,
+        "j,t,z",
+    );
+    assert_eq!(pass_runs(&report, "update lights"), 0);
+}
+
+#[test]
 fn lightwave_keys_switch_its_gather_shells_shadows_and_composite() {
     let dir = scratch("lightwave-keys");
     // Per frame: gather per pixel, per vertex again, a sixth shell, integrated shadows, the

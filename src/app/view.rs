@@ -47,6 +47,7 @@ const MAX_LIVE_SAMPLES: usize = 20_000;
 const HELP: &[&str] = &[
     "W A S D  MOVE    Q E  DOWN/UP    DRAG  TURN    WHEEL  SPEED",
     "ARROWS  MOVE THE LIGHT    PAGE UP/DOWN  LIGHT UP/DOWN    L  NEXT LIGHT OR EMITTER",
+    "J K  DIM/BRIGHTEN THE LIGHT    T  TINT    Z X  TURN THE SPOT    R F  TILT THE SPOT",
     "I  INDIRECT ONLY    O  DIRECT ONLY    P  SCREENSHOT (PNG + EXR)    F1  HELP    ESC  QUIT",
 ];
 
@@ -492,6 +493,19 @@ impl Running {
             KeyCode::KeyL if !self.movables.is_empty() => {
                 self.moving = (self.moving + 1) % self.movables.len();
             }
+            KeyCode::KeyJ | KeyCode::KeyK | KeyCode::KeyT if !self.movables.is_empty() => {
+                let which = self.movables[self.moving].clone();
+                let changed = match code {
+                    KeyCode::KeyJ => self.scene.dim(&which, 0.8),
+                    KeyCode::KeyK => self.scene.dim(&which, 1.25),
+                    _ => self.scene.retint(&which),
+                };
+                if changed {
+                    self.frame.set_lights(&self.scene);
+                } else {
+                    self.status = "AN EMITTER ONLY MOVES (J K T ARE FOR LIGHTS)".into();
+                }
+            }
             code => {
                 let keyed = self
                     .method_index()
@@ -529,6 +543,13 @@ impl Running {
         let Some(which) = self.movables.get(self.moving) else {
             return Ok(());
         };
+        let (yaw, pitch) = (
+            axis(KeyCode::KeyZ, KeyCode::KeyX),
+            axis(KeyCode::KeyR, KeyCode::KeyF),
+        );
+        if (yaw, pitch) != (0.0, 0.0) && self.scene.aim(which, yaw * seconds, pitch * seconds) {
+            self.frame.set_lights(&self.scene);
+        }
         if light == Vec3::ZERO {
             if self.geometry_moved {
                 self.geometry_moved = false;

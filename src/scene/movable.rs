@@ -8,7 +8,21 @@ use std::ops::Range;
 
 use glam::Vec3;
 
-use super::{LightKind, Scene};
+use super::{LightKind, MAX_POWER, Scene};
+
+/// The tints the viewer cycles a light through: white, warm, cool, red, green, blue.
+pub const TINTS: [Vec3; 6] = [
+    Vec3::ONE,
+    Vec3::new(1.0, 0.8, 0.6),
+    Vec3::new(0.6, 0.8, 1.0),
+    Vec3::new(1.0, 0.2, 0.2),
+    Vec3::new(0.2, 1.0, 0.2),
+    Vec3::new(0.2, 0.2, 1.0),
+];
+
+/// The dimmest flux (W) a light is dimmed to: it never reaches zero (ILPV's energy ratio needs
+/// light before and after).
+const MIN_FLUX: f32 = 1e-6;
 
 /// One thing the viewer can move.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,12 +39,21 @@ impl Movable {
     pub fn describe(&self, scene: &Scene) -> String {
         match self {
             Movable::Light(i) => {
-                let kind = match scene.lights[*i].kind {
+                let light = &scene.lights[*i];
+                let kind = match light.kind {
                     LightKind::Spot { .. } => "spot",
                     LightKind::Point => "point",
                     LightKind::Cosine { .. } => "area sample",
                 };
-                format!("light {} ({kind})", i + 1)
+                let c = light.color;
+                format!(
+                    "light {} ({kind}, {:.3e} W, tint {:.1} {:.1} {:.1})",
+                    i + 1,
+                    light.flux,
+                    c.x,
+                    c.y,
+                    c.z
+                )
             }
             Movable::Emitter { material, vertices } => format!(
                 "emitter {} ({} vertices)",
@@ -94,11 +117,101 @@ impl Scene {
             }
         }
     }
+
+    /// Scale a punctual light's flux by `factor`, within [1e-6 W, vkgi's power limit]; false
+    /// for an emitter (its radiance is a material's).
+    pub fn dim(&mut self, which: &Movable, factor: f32) -> bool {
+        let Movable::Light(i) = which else {
+            return false;
+        };
+        let light = &mut self.lights[*i];
+        let most = MAX_POWER / light.color.max_element().max(1e-6);
+        light.flux = (light.flux * factor).clamp(MIN_FLUX, most);
+        true
+    }
+
+    /// Give a punctual light the tint after its own in [`TINTS`] (white after any other
+    /// colour); false for an emitter.
+    pub fn retint(&mut self, which: &Movable) -> bool {
+        let Movable::Light(i) = which else {
+            return false;
+        };
+        let light = &mut self.lights[*i];
+        let next = TINTS
+            .iter()
+            .position(|&t| t == light.color)
+            .map_or(0, |k| (k + 1) % TINTS.len());
+        light.color = TINTS[next];
+        true
+    }
+
+    /// Turn a spot light's axis by `yaw` about the vertical and `pitch` about its horizontal
+    /// side (radians), never past straight up or down; false for anything but a spot light.
+    pub fn aim(&mut self, which: &Movable, yaw: f32, pitch: f32) -> bool {
+        let Movable::Light(i) = which else {
+            return false;
+        };
+        let LightKind::Spot { direction, .. } = &mut self.lights[*i].kind else {
+            return false;
+        };
+        let turned = glam::Quat::from_rotation_y(yaw) * *direction;
+        let side = turned.cross(Vec3::Y).normalize_or(Vec3::X);
+        let pitched = glam::Quat::from_axis_angle(side, pitch) * turned;
+        // Keep off the vertical, where the side axis is undefined.
+        if pitched.y.abs() < 0.999 || pitched.y.abs() < turned.y.abs() {
+            *direction = pitched.normalize();
+        } else {
+            *direction = turned.normalize();
+        }
+        true
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn punctual_lights_dim_retint_and_aim_and_emitters_do_not() {
+        let mut scene = Scene::load("cornell").unwrap();
+        let light = Movable::Light(0);
+        let flux = scene.lights[0].flux;
+        assert!(scene.dim(&light, 0.5));
+        assert_eq!(scene.lights[0].flux, 0.5 * flux);
+        for _ in 0..200 {
+            scene.dim(&light, 1e-3);
+        }
+        assert_eq!(scene.lights[0].flux, MIN_FLUX);
+        assert!(scene.retint(&light));
+        assert_eq!(scene.lights[0].color, TINTS[1]);
+        for _ in 1..TINTS.len() {
+            scene.retint(&light);
+        }
+        assert_eq!(scene.lights[0].color, Vec3::ONE, "the tints cycle");
+        // The Cornell spot points straight down: yaw alone keeps it there; pitch tilts it, and
+        // never past the vertical.
+        assert!(scene.aim(&light, 0.3, 0.0));
+        let LightKind::Spot { direction, .. } = scene.lights[0].kind else {
+            unreachable!()
+        };
+        assert!((direction - Vec3::NEG_Y).length() < 1e-5);
+        for _ in 0..100 {
+            scene.aim(&light, 0.01, 0.05);
+        }
+        let LightKind::Spot { direction, .. } = scene.lights[0].kind else {
+            unreachable!()
+        };
+        assert!((direction.length() - 1.0).abs() < 1e-5 && direction.y.abs() < 0.9995);
+        let mut area = Scene::load("cornell-area").unwrap();
+        let emitter = area
+            .movables()
+            .into_iter()
+            .find(|m| matches!(m, Movable::Emitter { .. }));
+        let emitter = emitter.unwrap();
+        assert!(
+            !area.dim(&emitter, 0.5) && !area.retint(&emitter) && !area.aim(&emitter, 0.1, 0.1)
+        );
+    }
 
     #[test]
     fn an_emitter_moves_alone_and_its_light_samples_follow() {

@@ -15,6 +15,7 @@ use crate::gi::registry::Setup;
 use crate::gi::shared::rsm::Rsm;
 use crate::gi::shared::sh;
 use crate::gi::{Convergence, CorePass, FrameContext, GiMethod};
+use crate::scene::Light;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Part, Recorder,
     Specialization,
@@ -331,9 +332,10 @@ pub struct Lpv {
     frames: u64,
     /// Frames since the lights last changed (for the convergence of the ILPV blend).
     frames_since_change: u64,
-    /// Emitted flux of the lights at the last frame (E in the ILPV blend).
-    previous_energy: f64,
-    energy: f64,
+    /// Emitted flux per colour channel of the lights at the last frame and at this one (E in the
+    /// ILPV blend, per channel so that a recoloured light scales each channel's carried light).
+    previous_energy: [f64; 3],
+    energy: [f64; 3],
     device_shared_bytes: u32,
 }
 
@@ -482,13 +484,8 @@ impl Lpv {
             pending_result: 0,
             frames: 0,
             frames_since_change: 0,
-            previous_energy: 0.0,
-            // The light the RSM sees: punctual lights and the area-light samples.
-            energy: scene
-                .raster_lights()
-                .iter()
-                .map(|l| f64::from(l.flux) * f64::from(l.color.element_sum()) / 3.0)
-                .sum(),
+            previous_energy: [0.0; 3],
+            energy: emitted_flux(&scene.raster_lights()),
             device_shared_bytes: shared,
             settings,
         })
@@ -531,21 +528,22 @@ impl Lpv {
         }
     }
 
-    /// The ILPV blend weights (previous, current) for this frame: λ̃a = λ_incr E_now / E_before
-    /// and λ̃b = 1 - λ_incr. With nothing to carry (the first frame, or no light before) the
-    /// carried lattice counts as empty, λ̃a = 0, and the fresh light still gets 1 - λ_incr: the
-    /// lattice then grows through the recursion's partial sums up to its steady state instead of
-    /// starting from a full-weight injection, which made frame 2 overshoot the settled light
-    /// (4x at λ 0.99). Classic LPV: (0, 1).
-    pub fn blend_weights(&self) -> (f32, f32) {
+    /// The ILPV blend weights (previous, current) of colour channel `channel` for this frame:
+    /// λ̃a = λ_incr E_now / E_before (eq 3.4, per channel) and λ̃b = 1 - λ_incr. With nothing to
+    /// carry (the first frame, or no light before) the carried lattice counts as empty, λ̃a = 0,
+    /// and the fresh light still gets 1 - λ_incr: the lattice then grows through the recursion's
+    /// partial sums up to its steady state instead of starting from a full-weight injection,
+    /// which made frame 2 overshoot the settled light (4x at λ 0.99). Classic LPV: (0, 1).
+    pub fn blend_weights(&self, channel: usize) -> (f32, f32) {
         let lambda = f64::from(self.settings.incremental);
         if self.settings.scheme != Scheme::Ilpv {
             return (0.0, 1.0);
         }
-        let carried = if self.frames == 0 || self.previous_energy <= 0.0 {
+        let (now, before) = (self.energy[channel], self.previous_energy[channel]);
+        let carried = if self.frames == 0 || before <= 0.0 {
             0.0
         } else {
-            lambda * self.energy / self.previous_energy
+            lambda * now / before
         };
         (carried as f32, (1.0 - lambda) as f32)
     }
@@ -595,7 +593,7 @@ impl Lpv {
     ) -> GpuResult<usize> {
         let cells = self.lattice.cell_count() as u32;
         let pair = &self.lattices[channel];
-        let (previous_factor, current_factor) = self.blend_weights();
+        let (previous_factor, current_factor) = self.blend_weights(channel);
         if previous_factor > 0.0 || current_factor != 1.0 {
             let push = MergePush {
                 cells,
@@ -776,6 +774,14 @@ impl Lpv {
     }
 }
 
+/// The flux per colour channel the RSM sees: the punctual lights and the area-light samples.
+fn emitted_flux(raster_lights: &[Light]) -> [f64; 3] {
+    raster_lights.iter().fold([0.0; 3], |sum, l| {
+        let c = l.color.as_dvec3() * f64::from(l.flux);
+        [sum[0] + c.x, sum[1] + c.y, sum[2] + c.z]
+    })
+}
+
 /// The name of the propagation pass (the method's core pass in the profile).
 const PROPAGATE: &str = "propagate";
 
@@ -790,6 +796,7 @@ impl GiMethod for Lpv {
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
         if ctx.changes.lights {
             self.frames_since_change = 0;
+            self.energy = emitted_flux(ctx.raster_lights);
         }
         let views = ctx.scene.shadow_view_matrices.len() as u32;
         // This frame's light goes into the lattice that does not hold last frame's result.
