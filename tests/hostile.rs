@@ -297,6 +297,26 @@ fn indirect_only_without_a_method_is_refused() {
 }
 
 #[test]
+fn a_lattice_beyond_the_device_buffers_is_refused_for_every_blocking_model() {
+    for lobe in ["two-sided", "oriented", "visibility"] {
+        assert_bad_input(
+            &vkgi(&[
+                "render",
+                "--size",
+                "16x12",
+                "--method",
+                "ilpv",
+                "--lattice",
+                "512",
+                "--blocking-lobe",
+                lobe,
+            ]),
+            "buffer limit",
+        );
+    }
+}
+
+#[test]
 fn profile_with_one_size_says_the_scaling_is_not_fitted() {
     let output = vkgi(&[
         "profile",

@@ -345,10 +345,12 @@ impl Lpv {
         settings.validate()?;
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
         let cells = lattice.cell_count();
-        let max_cells = gpu.info.max_storage_buffer_range as usize / 16;
+        // The geometry lattice is the largest buffer: 16 bytes per word, up to 4 words per cell.
+        let words = settings.blocking_lobe.words_per_cell();
+        let max_cells = gpu.info.max_storage_buffer_range as usize / (16 * words);
         if cells > max_cells {
             return Err(InputError::new(format!(
-                "a {}x{}x{} lattice ({cells} cells) exceeds the device's {max_cells}-cell buffer limit",
+                "a {}x{}x{} lattice ({cells} cells) exceeds the device's {max_cells}-cell buffer limit (with {words} geometry word(s) per cell)",
                 lattice.dims.x, lattice.dims.y, lattice.dims.z
             ))
             .into());
