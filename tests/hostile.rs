@@ -299,20 +299,16 @@ fn indirect_only_without_a_method_is_refused() {
 #[test]
 fn a_lattice_beyond_the_device_buffers_is_refused_for_every_blocking_model() {
     for lobe in ["two-sided", "oriented", "visibility"] {
-        assert_bad_input(
-            &vkgi(&[
-                "render",
-                "--size",
-                "16x12",
-                "--method",
-                "ilpv",
-                "--lattice",
-                "512",
-                "--blocking-lobe",
-                lobe,
-            ]),
-            "buffer limit",
-        );
+        let lattice = [
+            "--method",
+            "ilpv",
+            "--lattice",
+            "512",
+            "--blocking-lobe",
+            lobe,
+        ];
+        let args = [&["render", "--size", "16x12"][..], &lattice[..]].concat();
+        assert_bad_input(&vkgi(&args), "buffer limit");
     }
 }
 
