@@ -1,0 +1,102 @@
+//! Seed 000's lag after a light jump (spec 000 §6.3 and its test plan's item 6; issue #12 item 3):
+//! ILPV on the Cornell box settles with the spot where the scene puts it, the spot moves 0.2 m
+//! along x, and the frames until the indirect image is within 10% and 1% of its new steady state
+//! (Σ|I_f − I_new| ≤ 0.1 and 0.01 of Σ|I_old − I_new|) are counted against λ, next to the
+//! estimate from the blend alone, ln 0.1 / ln λ (blocking and the lattice's borders make the old
+//! light decay faster: a frame carries λ times what survives its steps). Two settings: vkgi's
+//! defaults (lattice 10, 8 steps per frame) and the thesis's lag case (lattice 32, 1 step).
+//!
+//! cargo bench --bench lpv_lag   (markdown to stdout; about five minutes on lavapipe, 2 cores)
+
+use vkgi::gi::lpv::{Lpv, LpvSettings};
+use vkgi::gi::registry::Setup;
+use vkgi::gpu::frames::FrameRing;
+use vkgi::gpu::{Gpu, GpuOptions};
+use vkgi::render::{Frame, FrameOptions};
+use vkgi::scene::Scene;
+
+const LAMBDAS: [f32; 4] = [0.5, 0.8, 0.9, 0.95];
+/// (lattice, steps per frame).
+const CASES: [(u32, u32); 2] = [(10, 8), (32, 1)];
+const JUMP: f32 = 0.2;
+
+/// Σ|a − b| over every pixel and channel.
+fn distance(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
+    a.iter()
+        .flatten()
+        .zip(b.iter().flatten())
+        .map(|(x, y)| f64::from((x - y).abs()))
+        .sum()
+}
+
+/// Frames after the jump until the image is within `fraction` of the way from the old steady
+/// state to the new one.
+fn frames_to(after: &[Vec<[f32; 3]>], old: &[[f32; 3]], fraction: f64) -> Option<usize> {
+    let new = after.last()?;
+    let start = distance(old, new);
+    after
+        .iter()
+        .position(|image| distance(image, new) <= fraction * start)
+        .map(|f| f + 1)
+}
+
+fn main() -> anyhow::Result<()> {
+    let gpu = Gpu::new(&GpuOptions::default())?;
+    println!("device: {}\n", gpu.info.name);
+    println!("## ILPV on the Cornell box: frames after a 0.2 m jump of the spot light\n");
+    println!("| lattice, steps | λ | to 10% | to 1% | ln 0.1 / ln λ | ln 0.01 / ln λ |");
+    println!("|---|---|---|---|---|---|");
+    for (lattice, iterations) in CASES {
+        for lambda in LAMBDAS {
+            lag(&gpu, lattice, iterations, lambda)?;
+        }
+    }
+    Ok(())
+}
+
+/// One row: the frames ILPV at `lattice` cells, `iterations` steps per frame and λ `lambda`
+/// takes to follow the jump.
+fn lag(gpu: &Gpu, lattice: u32, iterations: u32, lambda: f32) -> anyhow::Result<()> {
+    let mut scene = Scene::load("cornell")?;
+    let options = FrameOptions {
+        width: 48,
+        height: 36,
+        indirect_only: true,
+        ..FrameOptions::default()
+    };
+    let mut frame = Frame::new(gpu, &scene, options)?;
+    let settings = LpvSettings {
+        lattice,
+        iterations,
+        incremental: lambda,
+        ..LpvSettings::default()
+    };
+    let mut lpv = Lpv::new(&Setup::new(gpu, &scene), settings)?;
+    let mut ring = FrameRing::new(gpu, 2)?;
+    // Five times the frames the blend alone needs to reach 1%.
+    let settle = (5.0 * (0.01f64).ln() / f64::from(lambda).ln()).ceil() as usize;
+    let mut render = |frame: &mut Frame, lpv: &mut Lpv| -> anyhow::Result<Vec<[f32; 3]>> {
+        frame.submit(gpu, &mut ring, Some(lpv))?;
+        ring.finish()?;
+        Ok(frame.read_hdr(gpu)?)
+    };
+    let mut old = Vec::new();
+    for _ in 0..settle {
+        old = render(&mut frame, &mut lpv)?;
+    }
+    scene.lights[0].position.x += JUMP;
+    frame.set_lights(&scene);
+    let after = (0..settle)
+        .map(|_| render(&mut frame, &mut lpv))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let show = |f: Option<usize>| f.map_or("-".to_string(), |f| f.to_string());
+    let estimate = |fraction: f64| fraction.ln() / f64::from(lambda).ln();
+    println!(
+        "| {lattice}, {iterations} | {lambda} | {} | {} | {:.1} | {:.1} |",
+        show(frames_to(&after, &old, 0.1)),
+        show(frames_to(&after, &old, 0.01)),
+        estimate(0.1),
+        estimate(0.01)
+    );
+    Ok(())
+}
