@@ -242,10 +242,12 @@ pub fn build(
         };
     }
     let mut out = GeometryLattice::empty(lobe, lattice.cell_count());
-    let mut occupancy = Occupancy::new(lattice);
-    if lobe == BlockingLobe::Oriented {
+    // Only oriented blocking needs the occupancy (a first pass over the samples).
+    let occupancy = (lobe == BlockingLobe::Oriented).then(|| {
+        let mut occupancy = Occupancy::new(lattice);
         for_each_sample(mesh, lattice, |s| occupancy.mark(s.position));
-    }
+        occupancy
+    });
     let k = lobe.words_per_cell();
     let norm = 1.0 / unit_blocking(transfer);
     // The current triangle's side facing the void, found once per cell it covers.
@@ -263,7 +265,7 @@ pub fn build(
         let outward = || {
             *sides
                 .entry(i)
-                .or_insert_with(|| occupancy.outward(s.position, s.normal))
+                .or_insert_with(|| occupancy.as_ref()?.outward(s.position, s.normal))
         };
         let Some(words) = unit_density_words(lobe, s.normal, norm, outward) else {
             return;
