@@ -63,13 +63,14 @@ fn drawable(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
 }
 
-/// A log axis range around `values` (one decade around 1 when there are none).
+/// A log axis range around `values` (one decade around 1 when there are none), starting at a
+/// power of ten so that plotters labels it even when the values span less than a decade.
 fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
     });
     if lo.is_finite() && hi > 0.0 {
-        lo / 1.3..hi * 1.3
+        10f64.powf((lo / 1.3).log10().floor())..hi * 1.3
     } else {
         0.1..10.0
     }
@@ -121,8 +122,8 @@ impl Plot {
                 .configure_mesh()
                 .x_desc(self.x_label.as_str())
                 .y_desc(self.y_label.as_str())
-                .x_labels(6)
-                .y_labels(6)
+                .x_labels(10)
+                .y_labels(10)
                 .x_label_formatter(&tick)
                 .y_label_formatter(&tick)
                 .light_line_style(RGBColor(240, 240, 240))
