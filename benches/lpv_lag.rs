@@ -6,12 +6,17 @@
 //! light decay faster: a frame carries λ times what survives its steps). Two settings: vkgi's
 //! defaults (lattice 10, 8 steps per frame) and the thesis's lag case (lattice 32, 1 step).
 //!
-//! cargo bench --bench lpv_lag   (markdown to stdout; about five minutes on lavapipe, 2 cores)
+//! cargo bench --bench lpv_lag [-- OUT_DIR]   (markdown to stdout, the plot of the remaining
+//! distance per frame to OUT_DIR/lpv-lag.png, docs/images by default; about five minutes on
+//! lavapipe, 2 cores)
+
+use std::path::PathBuf;
 
 use vkgi::gi::lpv::{Lpv, LpvSettings};
 use vkgi::gi::registry::Setup;
 use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, GpuOptions};
+use vkgi::metrics::plot::{Plot, Series};
 use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 
@@ -41,22 +46,41 @@ fn frames_to(after: &[Vec<[f32; 3]>], old: &[[f32; 3]], fraction: f64) -> Option
 }
 
 fn main() -> anyhow::Result<()> {
+    let out_dir = std::env::args()
+        .skip(1)
+        .find(|a| !a.starts_with("--"))
+        .map_or_else(|| PathBuf::from("docs/images"), PathBuf::from);
+    std::fs::create_dir_all(&out_dir)?;
     let gpu = Gpu::new(&GpuOptions::default())?;
     println!("device: {}\n", gpu.info.name);
     println!("## ILPV on the Cornell box: frames after a 0.2 m jump of the spot light\n");
     println!("| lattice, steps | λ | to 10% | to 1% | ln 0.1 / ln λ | ln 0.01 / ln λ |");
     println!("|---|---|---|---|---|---|");
+    let mut series = Vec::new();
     for (lattice, iterations) in CASES {
         for lambda in LAMBDAS {
-            lag(&gpu, lattice, iterations, lambda)?;
+            let points = lag(&gpu, lattice, iterations, lambda)?;
+            series.push(Series {
+                label: format!("{lattice}³, {iterations} step(s), λ {lambda}"),
+                marked: vec![false; points.len()],
+                points,
+                connect: true,
+                colour: series.len(),
+            });
         }
     }
-    Ok(())
+    let plot = Plot {
+        title: "ILPV after a 0.2 m jump of the spot: distance left to the new steady state".into(),
+        x_label: "frames after the jump".into(),
+        y_label: "Σ|I_f − I_new| / Σ|I_old − I_new|".into(),
+        series,
+    };
+    vkgi::imageio::write_rgb(&out_dir.join("lpv-lag.png"), &plot.render()?)
 }
 
 /// One row: the frames ILPV at `lattice` cells, `iterations` steps per frame and λ `lambda`
-/// takes to follow the jump.
-fn lag(gpu: &Gpu, lattice: u32, iterations: u32, lambda: f32) -> anyhow::Result<()> {
+/// takes to follow the jump; returns (frame, the distance left as a fraction) per frame.
+fn lag(gpu: &Gpu, lattice: u32, iterations: u32, lambda: f32) -> anyhow::Result<Vec<(f64, f64)>> {
     let mut scene = Scene::load("cornell")?;
     let options = FrameOptions {
         width: 48,
@@ -71,6 +95,7 @@ fn lag(gpu: &Gpu, lattice: u32, iterations: u32, lambda: f32) -> anyhow::Result<
         incremental: lambda,
         ..LpvSettings::default()
     };
+    // One lattice: the thesis's scheme.
     let mut lpv = Lpv::new(&Setup::new(gpu, &scene), settings)?;
     let mut ring = FrameRing::new(gpu, 2)?;
     // Five times the frames the blend alone needs to reach 1%.
@@ -98,5 +123,13 @@ fn lag(gpu: &Gpu, lattice: u32, iterations: u32, lambda: f32) -> anyhow::Result<
         estimate(0.1),
         estimate(0.01)
     );
-    Ok(())
+    let Some(new) = after.last() else {
+        return Ok(Vec::new());
+    };
+    let start = distance(&old, new);
+    Ok(after
+        .iter()
+        .enumerate()
+        .map(|(f, image)| ((f + 1) as f64, distance(image, new) / start))
+        .collect())
 }

@@ -26,7 +26,7 @@ fn light_incidence(light: &Light, p: Vec3) -> (Vec3, Vec3, f32) {
 }
 
 /// As `orthonormal_basis` + `sample_cosine_hemisphere` in sampling.glsl.
-fn sample_cosine_hemisphere(n: Vec3, u1: f32, u2: f32) -> Vec3 {
+pub(crate) fn sample_cosine_hemisphere(n: Vec3, u1: f32, u2: f32) -> Vec3 {
     let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (s + n.z);
     let c = n.x * n.y * a;

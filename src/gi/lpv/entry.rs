@@ -2,7 +2,7 @@
 //! sweeps), how many frames they need to settle, and their constructors.
 
 use super::geometry::BlockingLobe;
-use super::technique::{self as t, Extinction, IlpvLookup, Lpv, LpvSettings, Scheme};
+use super::technique::{self as t, Extinction, FarLattice, IlpvLookup, Lpv, LpvSettings, Scheme};
 use crate::error::InputError;
 use crate::gi::GiMethod;
 use crate::gi::registry::{MethodEntry, Setup};
@@ -120,6 +120,25 @@ const ILPV_LOOKUP: Setting = Setting::new(
     "What the ILPV lookup reads: the accumulated steps, or the thesis's final lattice",
 );
 
+const FAR_LATTICE: Setting = Setting::new(
+    "far-lattice",
+    Kind::Text,
+    "auto",
+    "ILPV in two scales: a coarse far-field lattice carries the light beyond --near-steps steps of the fine --lattice: off (one lattice), auto (cells of 0.45 mean free paths of the scene) or its cells along the longest axis",
+);
+const FAR_INJECTION: Setting = Setting::new(
+    "far-injection",
+    Kind::Float { min: 0.0, max: 1.0 },
+    "0.3",
+    "Two scales: the share of its own injected light the far field adds (the near field holds the rest)",
+);
+const NEAR_STEPS: Setting = Setting::new(
+    "near-steps",
+    Kind::Int { min: 1, max: 64 },
+    "2",
+    "Two scales: steps per frame of the fine near-field lattice, at λ_incr 0 (--iterations and --incremental then drive the far field)",
+);
+
 const ILPV_SETTINGS: &[Setting] = &[
     LATTICE,
     ITERATIONS,
@@ -136,6 +155,9 @@ const ILPV_SETTINGS: &[Setting] = &[
     INJECT_OFFSET,
     LOOKUP_OFFSET,
     ILPV_LOOKUP,
+    FAR_LATTICE,
+    NEAR_STEPS,
+    FAR_INJECTION,
 ];
 const LPV_SETTINGS: &[Setting] = &[
     LATTICE,
@@ -185,7 +207,7 @@ pub fn settle_frames(incremental: f64) -> u32 {
 }
 
 fn create_ilpv(setup: &Setup, settings: &Settings) -> anyhow::Result<Box<dyn GiMethod>> {
-    Ok(Box::new(Lpv::new(setup, lpv_settings(Scheme::Ilpv, settings)?)?))
+    super::two_scale::create(setup, lpv_settings(Scheme::Ilpv, settings)?)
 }
 
 fn create_lpv(setup: &Setup, settings: &Settings) -> anyhow::Result<Box<dyn GiMethod>> {
@@ -202,6 +224,9 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         } else {
             Ok(default)
         }
+    };
+    let u32_or = |name: &str, default: u32| -> Result<u32, InputError> {
+        if s.has(name) { s.u32(name) } else { Ok(default) }
     };
     let flag = |name: &str| -> Result<bool, InputError> {
         if s.has(name) { s.flag(name) } else { Ok(false) }
@@ -243,7 +268,28 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         ilpv_lookup,
         inject_offset: float_or("inject-offset", defaults.inject_offset)?,
         lookup_offset: float_or("lookup-offset", defaults.lookup_offset)?,
+        far_lattice: match s.has("far-lattice").then(|| s.text("far-lattice")).transpose()? {
+            Some(text) => far_lattice(text)?,
+            None => defaults.far_lattice,
+        },
+        near_steps: u32_or("near-steps", defaults.near_steps)?,
+        far_injection: float_or("far-injection", defaults.far_injection)?,
     })
+}
+
+/// `--far-lattice`: off, auto or a cell count.
+fn far_lattice(text: &str) -> Result<FarLattice, InputError> {
+    match text {
+        "off" | "0" => Ok(FarLattice::Off),
+        "auto" => Ok(FarLattice::Auto),
+        cells => match cells.parse::<u32>() {
+            Ok(n) if n <= super::lattice::MAX_CELLS => Ok(FarLattice::Cells(n)),
+            _ => Err(InputError::new(format!(
+                "--far-lattice {text} is neither off, auto nor a cell count in 1..={}",
+                super::lattice::MAX_CELLS
+            ))),
+        },
+    }
 }
 
 #[cfg(test)]

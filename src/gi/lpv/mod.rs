@@ -6,11 +6,13 @@ pub mod bindings;
 pub mod cost;
 pub mod cpu;
 pub mod entry;
+pub mod free_path;
 pub mod geometry;
 pub mod lattice;
 pub mod projected;
 pub mod technique;
 pub mod transfer;
+pub mod two_scale;
 pub mod visibility;
 pub mod void_side;
 

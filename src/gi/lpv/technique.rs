@@ -17,7 +17,7 @@ use crate::gi::shared::sh;
 use crate::gi::{Convergence, CorePass, FrameContext, GiMethod};
 use crate::scene::Light;
 use crate::gpu::{
-    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Part, Recorder,
+    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Part, Recorder,
     Specialization,
 };
 use crate::shaders;
@@ -72,6 +72,22 @@ pub const DEFAULT_LOOKUP_OFFSET: f32 = 1.0;
 pub const DEFAULT_INJECT_OFFSET: f32 = 0.5;
 /// Default RSM resolution (the thesis's 256²).
 pub const DEFAULT_RSM: u32 = 256;
+/// Default near-field steps of two-scale ILPV (the two-scale grid in docs/lpv.md).
+pub const DEFAULT_NEAR_STEPS: u32 = 2;
+/// Default share of its own injection two-scale ILPV's far field keeps (the two-scale grid in
+/// docs/lpv.md).
+pub const DEFAULT_FAR_INJECTION: f32 = 0.3;
+
+/// Which part of the light transport one lattice models.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Field {
+    /// All of it: one lattice, or the fine lattice of two scales (the near field: this frame's
+    /// injection and its first steps at λ_incr 0).
+    Whole,
+    /// Two scales, the coarse lattice: everything after its first step, and a share of its
+    /// injection (it shares the near field's RSM; the near field resolves the short range).
+    Far,
+}
 
 /// Mean distance to the 26 neighbours in cells: (6 + 12√2 + 8√3) / 26.
 pub const MEAN_NEIGHBOUR_DISTANCE: f64 = 1.416_421_8;
@@ -108,6 +124,24 @@ pub struct LpvSettings {
     pub inject_offset: f32,
     /// The lookup reads this many cells along the surface normal (the thesis: 0.5).
     pub lookup_offset: f32,
+    /// ILPV in two scales: the coarse far-field lattice (see [`super::two_scale`]).
+    pub far_lattice: FarLattice,
+    /// Two scales: steps per frame of the fine near-field lattice (at λ_incr 0).
+    pub near_steps: u32,
+    /// Two scales: the share of its own injection the far field's lookup keeps (the rest is
+    /// the near field's).
+    pub far_injection: f32,
+}
+
+/// The far-field lattice of two-scale ILPV.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum FarLattice {
+    /// One lattice.
+    Off,
+    /// Cells of [`super::two_scale::FAR_CELL_IN_FREE_PATHS`] of the scene's mean free path.
+    Auto,
+    /// This many cells along the scene's longest axis.
+    Cells(u32),
 }
 
 impl Default for LpvSettings {
@@ -129,12 +163,15 @@ impl Default for LpvSettings {
             ilpv_lookup: IlpvLookup::Accumulated,
             inject_offset: DEFAULT_INJECT_OFFSET,
             lookup_offset: DEFAULT_LOOKUP_OFFSET,
+            far_lattice: FarLattice::Auto,
+            near_steps: DEFAULT_NEAR_STEPS,
+            far_injection: DEFAULT_FAR_INJECTION,
         }
     }
 }
 
 impl LpvSettings {
-    fn validate(&self) -> Result<(), InputError> {
+    pub(super) fn validate(&self) -> Result<(), InputError> {
         let err = |m: String| Err(InputError::new(m));
         if self.iterations > 4096 {
             return err(format!(
@@ -169,6 +206,29 @@ impl LpvSettings {
             if !(v.is_finite() && (0.0..=max).contains(&v)) {
                 return err(format!("{name} {v} is out of range [0, {max}]"));
             }
+        }
+        Ok(())
+    }
+
+    /// The settings two scales add (checked where two scales run).
+    pub(super) fn validate_two_scale(&self) -> Result<(), InputError> {
+        let err = |m: String| Err(InputError::new(m));
+        if self.ilpv_lookup == IlpvLookup::Final {
+            return err(
+                "--far-lattice needs --ilpv-lookup accumulated (the final lattice cannot leave out the near field's steps)".into(),
+            );
+        }
+        if self.near_steps == 0 || self.near_steps > 64 {
+            return err(format!(
+                "--near-steps {} is out of range 1..=64",
+                self.near_steps
+            ));
+        }
+        if !(self.far_injection.is_finite() && (0.0..=1.0).contains(&self.far_injection)) {
+            return err(format!(
+                "--far-injection {} is out of range [0, 1]",
+                self.far_injection
+            ));
         }
         Ok(())
     }
@@ -316,7 +376,9 @@ pub struct Lpv {
     compensate_pipeline: ComputePipeline,
     propagate_pipeline: ComputePipeline,
     lookup_pipeline: ComputePipeline,
-    rsm: Rsm,
+    /// The reflective shadow maps it injects from (None: a far field reads its near field's).
+    rsm: Option<Rsm>,
+    field: Field,
     /// Two lattices per channel, ping-ponged.
     lattices: [[Buffer; 2]; 3],
     /// The sum of the steps the lookup reads, per channel.
@@ -340,9 +402,20 @@ pub struct Lpv {
 }
 
 impl Lpv {
+    /// One lattice of `settings` (whatever its `far_lattice`: two scales are
+    /// [`super::two_scale::create`]'s).
     pub fn new(setup: &Setup, settings: LpvSettings) -> anyhow::Result<Lpv> {
-        let (gpu, scene) = (setup.gpu, setup.scene);
         settings.validate()?;
+        Self::with_field(setup, settings, Field::Whole)
+    }
+
+    /// One lattice of `field`'s part of the light (a far field gets no RSM of its own).
+    pub(super) fn with_field(
+        setup: &Setup,
+        settings: LpvSettings,
+        field: Field,
+    ) -> anyhow::Result<Lpv> {
+        let (gpu, scene) = (setup.gpu, setup.scene);
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
         let cells = lattice.cell_count();
         // The geometry lattice is the largest buffer: 16 bytes per word, up to 4 words per cell.
@@ -402,7 +475,10 @@ impl Lpv {
             Scheme::Lpv => "lpv propagation",
         };
         let propagate_pipeline = ComputePipeline::new(gpu, propagate_name, propagate_spirv, &spec)?;
-        let rsm = Rsm::new(gpu, scene, settings.rsm)?;
+        let rsm = match field {
+            Field::Far => None,
+            Field::Whole => Some(Rsm::new(gpu, scene, settings.rsm)?),
+        };
         let lattice_buffer =
             |name: String| gpu.create_buffer(&BufferDesc::storage(&name, (cells * 16) as u64));
         let channel_pair = |c: usize| -> GpuResult<[Buffer; 2]> {
@@ -475,6 +551,7 @@ impl Lpv {
                 &none,
             )?,
             rsm,
+            field,
             lattices,
             accumulation,
             geometry: gpu
@@ -555,7 +632,13 @@ impl Lpv {
         [d.x, d.y, d.z, 0]
     }
 
-    fn record_inject(&self, rec: &mut Recorder, target: usize, views: u32) -> GpuResult<()> {
+    fn record_inject(
+        &self,
+        rec: &mut Recorder,
+        rsm: &Rsm,
+        target: usize,
+        views: u32,
+    ) -> GpuResult<()> {
         let [r, g, b] = [0, 1, 2].map(|c| &self.lattices[c][target]);
         for lattice in [r, g, b] {
             rec.fill_buffer("clear lattice", lattice, 0);
@@ -573,9 +656,9 @@ impl Lpv {
             name: "inject",
             pipeline: &self.inject_pipeline,
             bindings: &[
-                Binding::image_read(ids::INJECT_RSM_POSITION, &self.rsm.position),
-                Binding::image_read(ids::INJECT_RSM_NORMAL, &self.rsm.normal),
-                Binding::image_read(ids::INJECT_RSM_FLUX, &self.rsm.flux),
+                Binding::image_read(ids::INJECT_RSM_POSITION, &rsm.position),
+                Binding::image_read(ids::INJECT_RSM_NORMAL, &rsm.normal),
+                Binding::image_read(ids::INJECT_RSM_FLUX, &rsm.flux),
                 Binding::write(ids::INJECT_LATTICE_R, r),
                 Binding::write(ids::INJECT_LATTICE_G, g),
                 Binding::write(ids::INJECT_LATTICE_B, b),
@@ -627,7 +710,12 @@ impl Lpv {
         let pair = &self.lattices[channel];
         if !self.reads_final() {
             let acc = &self.accumulation[channel];
-            rec.copy_buffer("accumulate", &pair[current], acc, acc.size);
+            match self.field {
+                Field::Far => self.record_carried_start(rec, channel, current)?,
+                Field::Whole => {
+                    rec.copy_buffer("accumulate", &pair[current], acc, acc.size)
+                }
+            }
         }
         let (absorption, scattering) = self.settings.medium(self.lattice.cell_size);
         let mut src = current;
@@ -638,6 +726,36 @@ impl Lpv {
             src = 1 - src;
         }
         Ok(src)
+    }
+
+    /// A far field's accumulation starts with the light carried from last frame, λ̃a times
+    /// its last result, and the share `far_injection` (α) of this frame's injection, whose
+    /// rest the near field resolves: α·merged + (1 - α)·λ̃a·previous.
+    fn record_carried_start(
+        &self,
+        rec: &mut Recorder,
+        channel: usize,
+        current: usize,
+    ) -> GpuResult<()> {
+        let acc = &self.accumulation[channel];
+        let alpha = self.settings.far_injection;
+        rec.copy_buffer("accumulate", &self.lattices[channel][current], acc, acc.size);
+        let (previous_factor, _) = self.blend_weights(channel);
+        let push = MergePush {
+            cells: self.lattice.cell_count() as u32,
+            previous_factor: previous_factor * (1.0 - alpha),
+            current_factor: alpha,
+        };
+        rec.compute(&ComputePass {
+            name: "merge",
+            pipeline: &self.merge_pipeline,
+            bindings: &[
+                Binding::write(ids::MERGE_CURRENT, acc),
+                Binding::read(ids::MERGE_PREVIOUS, &self.lattices[channel][1 - current]),
+            ],
+            push: &push,
+            threads: [self.lattice.cell_count() as u32, 1, 1],
+        })
     }
 
     /// One propagation step of one channel from lattice `src` into the other.
@@ -784,6 +902,40 @@ fn emitted_flux(raster_lights: &[Light]) -> [f64; 3] {
     })
 }
 
+impl Lpv {
+    /// This frame's bookkeeping before its injection; returns the number of RSM views.
+    fn begin_frame(&mut self, ctx: &FrameContext) -> u32 {
+        if ctx.changes.lights {
+            self.frames_since_change = 0;
+            self.energy = emitted_flux(ctx.raster_lights);
+        }
+        // This frame's light goes into the lattice that does not hold last frame's result.
+        self.current = if self.settings.scheme == Scheme::Ilpv {
+            1 - self.result
+        } else {
+            0
+        };
+        self.pending_result = self.current;
+        ctx.scene.shadow_view_matrices.len() as u32
+    }
+
+    /// This frame's light work, injecting from `rsm` (another lattice's, rendered this frame).
+    pub(super) fn record_light_from(
+        &mut self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        rsm: &Rsm,
+    ) -> GpuResult<()> {
+        let views = self.begin_frame(ctx);
+        self.record_inject(rec, rsm, self.current, views)
+    }
+
+    /// The RSM this lattice renders, if it renders one.
+    pub(super) fn rsm(&self) -> Option<&Rsm> {
+        self.rsm.as_ref()
+    }
+}
+
 /// The name of the propagation pass (the method's core pass in the profile).
 const PROPAGATE: &str = "propagate";
 
@@ -796,22 +948,16 @@ impl GiMethod for Lpv {
     }
 
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
-        if ctx.changes.lights {
-            self.frames_since_change = 0;
-            self.energy = emitted_flux(ctx.raster_lights);
-        }
-        let views = ctx.scene.shadow_view_matrices.len() as u32;
-        // This frame's light goes into the lattice that does not hold last frame's result.
-        self.current = if self.settings.scheme == Scheme::Ilpv {
-            1 - self.result
-        } else {
-            0
+        let views = self.begin_frame(ctx);
+        let Some(rsm) = &self.rsm else {
+            return Err(GpuError::Setup(
+                "a far-field lattice injects from its near field's RSM".into(),
+            ));
         };
-        self.pending_result = self.current;
         if views > 0 {
-            self.rsm.record(rec, ctx)?;
+            rsm.record(rec, ctx)?;
         }
-        self.record_inject(rec, self.current, views)
+        self.record_inject(rec, rsm, self.current, views)
     }
 
     fn parts(&self) -> &'static [&'static str] {
