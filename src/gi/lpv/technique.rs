@@ -596,6 +596,18 @@ impl Lpv {
         }
     }
 
+    /// Steps recorded per frame: all of them, but for accumulated ILPV at λ_incr 0 one fewer,
+    /// since the last step's result is neither looked up nor carried (a two-scale near field of
+    /// 2 steps runs 1).
+    fn steps_run(&self) -> usize {
+        let steps = self.settings.iterations as usize;
+        let carried_or_read = self.settings.incremental > 0.0 || self.reads_final();
+        match self.settings.scheme {
+            Scheme::Ilpv if !carried_or_read => steps.saturating_sub(1),
+            _ => steps,
+        }
+    }
+
     /// The lookup's scale (see [`IlpvLookup`]): ILPV's lattice holds the fresh light at weight
     /// 1 - λ_incr every frame, the first included.
     fn lookup_scale(&self) -> f32 {
@@ -719,7 +731,7 @@ impl Lpv {
         }
         let (absorption, scattering) = self.settings.medium(self.lattice.cell_size);
         let mut src = current;
-        for step in 0..self.settings.iterations as usize {
+        for step in 0..self.steps_run() {
             rec.in_step(step as u32 + 1, |rec| {
                 self.record_step(rec, channel, step, src, (absorption, scattering))
             })?;
