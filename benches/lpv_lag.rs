@@ -10,13 +10,13 @@
 //! distance per frame to OUT_DIR/lpv-lag.png, docs/images by default; about five minutes on
 //! lavapipe, 2 cores)
 
-use std::path::PathBuf;
+mod common;
 
 use vkgi::gi::lpv::{Lpv, LpvSettings};
 use vkgi::gi::registry::Setup;
 use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, GpuOptions};
-use vkgi::metrics::plot::{Plot, Series};
+use vkgi::metrics::plot::{Series, write_plot};
 use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 
@@ -46,11 +46,7 @@ fn frames_to(after: &[Vec<[f32; 3]>], old: &[[f32; 3]], fraction: f64) -> Option
 }
 
 fn main() -> anyhow::Result<()> {
-    let out_dir = std::env::args()
-        .skip(1)
-        .find(|a| !a.starts_with("--"))
-        .map_or_else(|| PathBuf::from("docs/images"), PathBuf::from);
-    std::fs::create_dir_all(&out_dir)?;
+    let out_dir = common::out_dir()?;
     let gpu = Gpu::new(&GpuOptions::default())?;
     println!("device: {}\n", gpu.info.name);
     println!("## ILPV on the Cornell box: frames after a 0.2 m jump of the spot light\n");
@@ -60,22 +56,17 @@ fn main() -> anyhow::Result<()> {
     for (lattice, iterations) in CASES {
         for lambda in LAMBDAS {
             let points = lag(&gpu, lattice, iterations, lambda)?;
-            series.push(Series {
-                label: format!("{lattice}³, {iterations} step(s), λ {lambda}"),
-                marked: vec![false; points.len()],
-                points,
-                connect: true,
-                colour: series.len(),
-            });
+            let label = format!("{lattice}³, {iterations} step(s), λ {lambda}");
+            series.push(Series::line(&label, series.len(), points));
         }
     }
-    let plot = Plot {
-        title: "ILPV after a 0.2 m jump of the spot: distance left to the new steady state".into(),
-        x_label: "frames after the jump".into(),
-        y_label: "Σ|I_f − I_new| / Σ|I_old − I_new|".into(),
+    write_plot(
+        &out_dir.join("lpv-lag.png"),
+        "ILPV after a 0.2 m jump of the spot: distance left to the new steady state",
+        "frames after the jump",
+        "Σ|I_f − I_new| / Σ|I_old − I_new|",
         series,
-    };
-    vkgi::imageio::write_rgb(&out_dir.join("lpv-lag.png"), &plot.render()?)
+    )
 }
 
 /// One row: the frames ILPV at `lattice` cells, `iterations` steps per frame and λ `lambda`

@@ -16,7 +16,9 @@
 //! cargo bench --bench lpv_thesis [-- OUT_DIR]   (markdown to stdout, plots into OUT_DIR,
 //! docs/images by default; about ten minutes on lavapipe with 2 cores)
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use vkgi::gi::GiMethod;
 use vkgi::gi::lpv::entry::settle_frames;
@@ -27,7 +29,7 @@ use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, GpuOptions};
 use vkgi::imageio::HdrImage;
 use vkgi::metrics;
-use vkgi::metrics::plot::{Plot, Series};
+use vkgi::metrics::plot::{Series, write_plot};
 use vkgi::reference::{Bounces, PathTracer, ReferenceSettings};
 use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
@@ -49,11 +51,7 @@ struct Run {
 }
 
 fn main() -> anyhow::Result<()> {
-    let out_dir = std::env::args()
-        .skip(1)
-        .find(|a| !a.starts_with("--"))
-        .map_or_else(|| PathBuf::from("docs/images"), PathBuf::from);
-    std::fs::create_dir_all(&out_dir)?;
+    let out_dir = common::out_dir()?;
     let gpu = Gpu::new(&GpuOptions::default())?;
     let scene = Scene::load("cornell")?;
     println!("device: {}\n", gpu.info.name);
@@ -201,52 +199,25 @@ fn report(
             .iter()
             .map(|r| (f64::from(r.steps), mae(r)))
             .filter(|p| p.1 > 0.0);
-        mae_series.push(series(&label, colour, mae_points.collect()));
+        mae_series.push(Series::line(&label, colour, mae_points.collect()));
         let truth_points = row
             .iter()
             .map(|r| (f64::from(r.steps), rel_mse(&r.indirect, truth)));
-        truth_series.push(series(&label, colour, truth_points.collect()));
+        truth_series.push(Series::line(&label, colour, truth_points.collect()));
     }
     println!();
-    plot(
+    write_plot(
         &out_dir.join(format!("lpv-fig2-mae-{name}.png")),
         &format!("ILPV {LATTICE}³ ({name} lookup): MAE against 32 steps at λ 0"),
         "propagation steps per frame",
         "MAE (tone-mapped)",
         mae_series,
     )?;
-    plot(
+    write_plot(
         &out_dir.join(format!("lpv-fig2-path-tracer-{name}.png")),
         &format!("ILPV {LATTICE}³ ({name} lookup): indirect relMSE against the path tracer"),
         "propagation steps per frame",
         "relMSE",
         truth_series,
     )
-}
-
-fn plot(
-    path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: Vec<Series>,
-) -> anyhow::Result<()> {
-    let image = Plot {
-        title: title.into(),
-        x_label: x_label.into(),
-        y_label: y_label.into(),
-        series,
-    }
-    .render()?;
-    vkgi::imageio::write_rgb(path, &image)
-}
-
-fn series(label: &str, colour: usize, points: Vec<(f64, f64)>) -> Series {
-    Series {
-        label: label.into(),
-        marked: vec![false; points.len()],
-        points,
-        connect: true,
-        colour,
-    }
 }

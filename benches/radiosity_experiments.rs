@@ -13,7 +13,9 @@
 //! plots into OUT_DIR, docs/images by default; --four-boxes skips part 1; about 35 minutes on
 //! lavapipe with 2 cores)
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use glam::Vec3;
 use vkgi::gi::GiMethod;
@@ -25,7 +27,7 @@ use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Gpu, GpuOptions};
 use vkgi::imageio::HdrImage;
 use vkgi::metrics;
-use vkgi::metrics::plot::{Plot, Series};
+use vkgi::metrics::plot::{Series, write_plot};
 use vkgi::reference::{Bounces, PathTracer, ReferenceSettings};
 use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
@@ -142,33 +144,6 @@ fn reference(gpu: &Gpu, scene: &Scene) -> anyhow::Result<HdrImage> {
     Ok(tracer.render(gpu, &settings, |_, _| {})?.combined())
 }
 
-fn plot(
-    path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: Vec<Series>,
-) -> anyhow::Result<()> {
-    let image = Plot {
-        title: title.into(),
-        x_label: x_label.into(),
-        y_label: y_label.into(),
-        series,
-    }
-    .render()?;
-    vkgi::imageio::write_rgb(path, &image)
-}
-
-fn series(label: &str, colour: usize, points: Vec<(f64, f64)>) -> Series {
-    Series {
-        label: label.into(),
-        marked: vec![false; points.len()],
-        points,
-        connect: true,
-        colour,
-    }
-}
-
 /// The first step whose shooter is in `surfaces`.
 fn first_shot_of<'a>(steps: &'a [Step], surfaces: &[u32]) -> Option<&'a Step> {
     steps.iter().find(|s| surfaces.contains(&s.shooter))
@@ -202,11 +177,7 @@ fn first_box_surfaces(elements: &Elements, pick: impl Fn(Vec3, Vec3, Vec3) -> bo
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let out: PathBuf = args
-        .iter()
-        .find(|a| !a.starts_with('-'))
-        .map_or_else(|| PathBuf::from("docs/images"), PathBuf::from);
-    std::fs::create_dir_all(&out)?;
+    let out = common::out_dir()?;
     let gpu = Gpu::new(&GpuOptions::default())?;
     println!("device: {}\n", gpu.info.name);
     if !args.iter().any(|a| a == "--four-boxes") {
@@ -249,7 +220,7 @@ fn convergence(gpu: &Gpu, out: &Path) -> anyhow::Result<()> {
             last.rel_mse(&truth)
         );
         let errors: Vec<f64> = steps.iter().map(|s| s.rel_mse(&truth)).collect();
-        by_shots.push(series(
+        by_shots.push(Series::line(
             mode,
             colour,
             steps
@@ -258,7 +229,7 @@ fn convergence(gpu: &Gpu, out: &Path) -> anyhow::Result<()> {
                 .map(|(s, e)| (f64::from(s.shots.max(1)), *e))
                 .collect(),
         ));
-        by_ms.push(series(
+        by_ms.push(Series::line(
             mode,
             colour,
             steps
@@ -268,14 +239,14 @@ fn convergence(gpu: &Gpu, out: &Path) -> anyhow::Result<()> {
                 .collect(),
         ));
     }
-    plot(
+    write_plot(
         &out.join("radiosity-convergence-shots.png"),
         "cornell-area: radiosity against the path tracer",
         "shots",
         "relMSE (full image)",
         by_shots,
     )?;
-    plot(
+    write_plot(
         &out.join("radiosity-convergence-ms.png"),
         "cornell-area: radiosity against the path tracer",
         "GPU ms (cumulative)",
@@ -319,7 +290,7 @@ fn four_boxes(gpu: &Gpu, out: &Path, ambient: &str) -> anyhow::Result<()> {
             reached[0],
             reached[1]
         );
-        curves.push(series(
+        curves.push(Series::line(
             mode,
             colour,
             steps
@@ -328,7 +299,7 @@ fn four_boxes(gpu: &Gpu, out: &Path, ambient: &str) -> anyhow::Result<()> {
                 .collect(),
         ));
     }
-    plot(
+    write_plot(
         &out.join(format!("radiosity-four-boxes-ambient-{ambient}.png")),
         &format!("four-boxes, ambient term {ambient}: the user's view against its converged image"),
         "shots",

@@ -40,6 +40,19 @@ pub struct Series {
     pub colour: usize,
 }
 
+impl Series {
+    /// Points joined by a line, none marked.
+    pub fn line(label: &str, colour: usize, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            label: label.into(),
+            marked: vec![false; points.len()],
+            points,
+            connect: true,
+            colour,
+        }
+    }
+}
+
 pub struct Plot {
     pub title: String,
     pub x_label: String,
@@ -63,14 +76,22 @@ fn drawable(p: &(f64, f64)) -> bool {
     p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0
 }
 
-/// A log axis range around `values` (one decade around 1 when there are none), starting at a
-/// power of ten so that plotters labels it even when the values span less than a decade.
+/// A log axis range around `values` (one decade around 1 when there are none). Plotters labels
+/// only from a power of ten up, so a range without one is extended down to the power below.
 fn log_range(values: impl Iterator<Item = f64>) -> std::ops::Range<f64> {
     let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
         (lo.min(v), hi.max(v))
     });
     if lo.is_finite() && hi > 0.0 {
-        10f64.powf((lo / 1.3).log10().floor())..hi * 1.3
+        let (lo, hi) = (lo / 1.3, hi * 1.3);
+        let power_below = 10f64.powf(lo.log10().floor());
+        // Inside [lo, hi] when the next power of ten up from lo is at most hi.
+        if power_below * 10.0 <= hi {
+            lo..hi
+        } else {
+            // Just under the power, so that plotters' rounding still finds it in range.
+            power_below * 0.999..hi
+        }
     } else {
         0.1..10.0
     }
@@ -168,6 +189,24 @@ impl Plot {
     }
 }
 
+/// A plot of `series` written to a PNG at `path` (whole or not at all, as every image vkgi
+/// writes).
+pub fn write_plot(
+    path: &std::path::Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: Vec<Series>,
+) -> anyhow::Result<()> {
+    let plot = Plot {
+        title: title.into(),
+        x_label: x_label.into(),
+        y_label: y_label.into(),
+        series,
+    };
+    crate::imageio::write_rgb(path, &plot.render()?)
+}
+
 /// Panels of equal size side by side, each with its label underneath.
 pub fn strip(panels: &[(String, RgbImage)]) -> anyhow::Result<RgbImage> {
     register_font()?;
@@ -206,6 +245,16 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn log_ranges_hold_a_power_of_ten_to_label() {
+        // Under a decade: extended down to just under the power below.
+        let r = log_range([0.137, 0.276].into_iter());
+        assert!(r.start < 0.1 && r.start > 0.099 && r.end > 0.276, "{r:?}");
+        // A decade or more: kept around the values.
+        let r = log_range([1.0, 32.0].into_iter());
+        assert!((r.start - 1.0 / 1.3).abs() < 1e-12 && r.end > 32.0, "{r:?}");
+    }
 
     #[test]
     fn tick_labels_keep_three_significant_digits() {

@@ -66,28 +66,9 @@ pub fn mean_free_path(mesh: &Mesh) -> Option<f64> {
 /// The unit cube's six faces, two triangles each.
 #[cfg(test)]
 fn unit_cube() -> Mesh {
-    let corners: Vec<Vec3> = (0..8)
-        .map(|i| Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
-        .collect();
-    let quads = [
-        [0, 1, 3, 2],
-        [4, 6, 7, 5],
-        [0, 4, 5, 1],
-        [2, 3, 7, 6],
-        [0, 2, 6, 4],
-        [1, 5, 7, 3],
-    ];
-    let indices = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-        .collect::<Vec<[u32; 3]>>();
-    Mesh {
-        normals: vec![Vec3::ZERO; corners.len()],
-        texcoords: vec![glam::Vec2::ZERO; corners.len()],
-        materials: vec![0; indices.len()],
-        positions: corners,
-        indices,
-    }
+    let mut mesh = Mesh::default();
+    mesh.push_cuboid(Vec3::ZERO, Vec3::ONE, 0);
+    mesh
 }
 
 #[cfg(test)]
