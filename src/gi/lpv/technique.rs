@@ -378,6 +378,8 @@ pub struct Lpv {
     lookup_pipeline: ComputePipeline,
     /// The reflective shadow maps it injects from (None: a far field reads its near field's).
     rsm: Option<Rsm>,
+    /// The propagation pass's name in the profile.
+    propagate_pass: &'static str,
     field: Field,
     /// Two lattices per channel, ping-ponged.
     lattices: [[Buffer; 2]; 3],
@@ -551,6 +553,10 @@ impl Lpv {
                 &none,
             )?,
             rsm,
+            propagate_pass: match field {
+                Field::Whole => PROPAGATE,
+                Field::Far => FAR_PROPAGATE,
+            },
             field,
             lattices,
             accumulation,
@@ -818,7 +824,7 @@ impl Lpv {
                     accumulate: u32::from(self.accumulates(step)),
                 };
                 rec.compute(&ComputePass {
-                    name: PROPAGATE,
+                    name: self.propagate_pass,
                     pipeline: &self.propagate_pipeline,
                     bindings: &[
                         Binding::read(ids::ILPV_SOURCE, &pair[src]),
@@ -837,7 +843,7 @@ impl Lpv {
                     use_blocking,
                 };
                 rec.compute(&ComputePass {
-                    name: PROPAGATE,
+                    name: self.propagate_pass,
                     pipeline: &self.propagate_pipeline,
                     bindings: &[
                         Binding::read(ids::LPV_SOURCE, &pair[src]),
@@ -950,6 +956,8 @@ impl Lpv {
 
 /// The name of the propagation pass (the method's core pass in the profile).
 const PROPAGATE: &str = "propagate";
+/// A two-scale far field's propagation, apart in the profile from the near field's core pass.
+const FAR_PROPAGATE: &str = "far propagate";
 
 impl GiMethod for Lpv {
     fn name(&self) -> &'static str {
@@ -1031,7 +1039,7 @@ impl GiMethod for Lpv {
 
     fn core_pass(&self) -> Option<CorePass> {
         Some(CorePass {
-            pass: PROPAGATE,
+            pass: self.propagate_pass,
             unit: "cell",
             units: self.lattice.cell_count(),
             bytes_per_unit: cost::bytes_per_cell(self.settings.scheme, true, self.geometry_words()),

@@ -7,8 +7,10 @@
 //!   `near_steps` steps at λ_incr 0 (m < K): the short-range light, where a fine lattice resolves
 //!   contact and blocking;
 //! * the far field, a coarse lattice fitted to the scene, runs ILPV as configured (steps, λ_incr)
-//!   from the same RSM and adds to the lookup everything after its own first step (m ≥ 1): the
-//!   long-range light, which crosses the scene in few hops before it diffuses.
+//!   from the same RSM and adds to the lookup everything after its own first step (m ≥ 1) and
+//!   the share `far_injection` (α) of its injection, which covers the range between the near
+//!   field's reach and one far cell: the long-range light, which crosses the scene in few hops
+//!   before it diffuses.
 //!
 //! Both lookups add into the HDR image. The far field leaks through geometry thinner than its
 //! cells (it is coarse on purpose); the sealed-box leak tests run on one lattice.
@@ -88,14 +90,10 @@ impl GiMethod for TwoScale {
         self.far.convergence()
     }
 
-    /// Both lattices' propagation (one pass name, the same work per cell).
+    /// The near field's propagation (the far field's is the pass `far propagate`: its few
+    /// cells would hide the lattice the user sized).
     fn core_pass(&self) -> Option<CorePass> {
-        let near = self.near.core_pass()?;
-        let far = self.far.core_pass()?;
-        Some(CorePass {
-            units: near.units + far.units,
-            ..near
-        })
+        self.near.core_pass()
     }
 
     fn describe(&self) -> Vec<String> {
