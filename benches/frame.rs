@@ -2,8 +2,10 @@
 //! numbers `vkgi render --profile` prints, through the same frame runner): median, min and max
 //! nanoseconds per pass.
 //!
-//! cargo bench --bench frame [-- WIDTHxHEIGHT FRAMES]
+//! cargo bench --bench frame [-- WIDTHxHEIGHT FRAMES] [--save-baseline]   (ends with each pass
+//! against benches/baselines/frame.json for this device, or stores this run there)
 
+use vkgi::app::baseline;
 use vkgi::gpu::{Gpu, GpuOptions};
 use vkgi::render::runner::run_frames;
 use vkgi::render::{Frame, FrameOptions};
@@ -34,6 +36,13 @@ fn main() -> anyhow::Result<()> {
     // Warm-up frames are not measured.
     let ring = run_frames(&gpu, &mut frame, None, 3, frames)?;
     println!("cornell {width}x{height}, {frames} frames");
-    print!("{}", ring.profiler.report().table());
-    Ok(())
+    let report = ring.profiler.report();
+    print!("{}", report.table());
+    let timings = report
+        .passes
+        .iter()
+        .chain(&report.frame)
+        .map(|p| (format!("{width}x{height} {}", p.name), p.median_ns))
+        .collect();
+    baseline::finish("frame", &gpu.info.name, timings)
 }

@@ -2,8 +2,11 @@
 //! one submission against one per part (colour channel) on its queue, timed by vkgi's own GPU
 //! profiler through the same code as `vkgi profile` (so both print the same numbers).
 //!
-//! cargo bench --bench propagation [-- SIZES FRAMES], e.g. `-- 8,16,32,64 10`
+//! cargo bench --bench propagation [-- SIZES FRAMES] [--save-baseline], e.g. `-- 8,16,32,64 10`
+//! (ends with each number against benches/baselines/propagation.json for this device, or stores
+//! this run there with --save-baseline)
 
+use vkgi::app::baseline;
 use vkgi::app::profile::{ProfileConfig, run};
 use vkgi::gi::registry;
 use vkgi::gpu::{Gpu, GpuOptions};
@@ -64,8 +67,11 @@ fn main() -> anyhow::Result<()> {
         }
     }
     println!("\n==== summary: median ns per core pass run (one part) and per frame ====");
+    let mut timings = baseline::Timings::new();
     for (name, label, core, frame) in summary {
         println!("{name:<28} {label:<20}: core {core:>13.0} ns, frame {frame:>13.0} ns");
+        timings.insert(format!("{name}, {label}, core pass"), core);
+        timings.insert(format!("{name}, {label}, frame"), frame);
     }
-    Ok(())
+    baseline::finish("propagation", &gpu.info.name, timings)
 }

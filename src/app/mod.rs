@@ -1,5 +1,6 @@
 //! The glue behind each subcommand: load, build, run, write, report.
 
+pub mod baseline;
 pub mod cli;
 mod compare;
 pub mod limits;
