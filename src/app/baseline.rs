@@ -48,7 +48,8 @@ impl Baselines {
 /// A table of `now` against `baseline`: each key's baseline and current median and their ratio
 /// (above 1: slower now), then the geometric mean of the ratios of the keys both have.
 pub fn compare(baseline: &Timings, now: &Timings) -> String {
-    let mut out = String::from("| key | baseline ns | now ns | now / baseline |\n|---|---|---|---|\n");
+    let mut out =
+        String::from("| key | baseline ns | now ns | now / baseline |\n|---|---|---|---|\n");
     let mut log_sum = 0.0;
     let mut count = 0;
     for (key, &ns) in now {
@@ -90,7 +91,10 @@ pub fn finish(bench: &str, device: &str, now: Timings) -> anyhow::Result<()> {
     }
     match stored.devices.get(device) {
         Some(baseline) => {
-            println!("\nagainst the stored baseline for {device} ({}):\n", file.display());
+            println!(
+                "\nagainst the stored baseline for {device} ({}):\n",
+                file.display()
+            );
             print!("{}", compare(baseline, &now));
         }
         None => println!(
@@ -118,7 +122,10 @@ mod tests {
         assert!(table.contains("| b | 200 | 100 | 0.500 |"), "{table}");
         assert!(table.contains("| new | - | 7 | new |"), "{table}");
         assert!(table.contains("| old | 5 | - | gone |"), "{table}");
-        assert!(table.contains("geometric mean of 2 ratios: 1.000"), "{table}");
+        assert!(
+            table.contains("geometric mean of 2 ratios: 1.000"),
+            "{table}"
+        );
     }
 
     #[test]
