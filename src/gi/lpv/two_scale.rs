@@ -101,7 +101,7 @@ impl GiMethod for TwoScale {
             lines.into_iter().map(|l| format!("{label}: {l}")).collect()
         };
         let mut lines = field("near field", self.near.describe());
-        lines.extend(field("far field (steps after the first)", self.far.describe()));
+        lines.extend(field("far field (its steps, and --far-injection of its injection)", self.far.describe()));
         lines
     }
 }
