@@ -2,11 +2,10 @@
 
 use anyhow::Context;
 
-use crate::gi::GiMethod;
 use crate::gpu::Gpu;
 use crate::imageio::{self, HdrImage, ImageKind};
 use crate::render::Frame;
-use crate::render::runner::run_frames;
+use crate::render::runner::run_animation;
 use crate::scene::Scene;
 
 use super::cli::RenderArgs;
@@ -42,8 +41,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         Some(c) => Some(method::build(&gpu, &scene, c, None)?),
         None => None,
     };
-    let method = gi.as_mut().map(|g| g.as_mut() as &mut dyn GiMethod);
-    let mut ring = run_frames(&gpu, &mut frame, method, 0, frames)?;
+    let rebuild = |scene: &Scene| match &chosen {
+        Some(c) => method::build(&gpu, scene, c, None),
+        None => anyhow::bail!("no GI method to build"),
+    };
+    let mut ring = run_animation(&gpu, &mut frame, &mut scene, gi.as_mut(), &rebuild, frames)?;
     ring.profiler.add_note(scene.statistics());
     check_validation(&gpu)?;
     if let Some(c) = gi.as_ref().and_then(|g| g.convergence()) {

@@ -11,6 +11,9 @@
 //! 5. [`GiMethod::record_lookup`] once per view, after the view's direct light, to add indirect
 //!    light to the view's HDR image.
 //!
+//! Between frames, whoever drives them (the runner, the viewer) hands a method the geometry that
+//! moved ([`GiMethod::geometry_moved`]) and builds the method again where it cannot follow.
+//!
 //! Methods see the frame only through [`FrameContext`] (scene buffers, shadow maps, views), so
 //! this module sits below the frame and never imports it.
 
@@ -20,10 +23,11 @@ pub mod shared;
 
 use serde::Serialize;
 
-use crate::gpu::{GpuResult, Image, Recorder, Sampler};
+use crate::gpu::{Gpu, GpuResult, Image, Recorder, Sampler};
 use crate::render::targets::View;
-use crate::scene::Light;
+use crate::scene::dynamic::Aabb;
 use crate::scene::gpu::SceneBuffers;
+use crate::scene::{Light, Scene};
 
 /// What changed since the method's previous frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -34,12 +38,23 @@ pub struct Changes {
     pub camera: bool,
     /// Views were created anew (a resize, another CAVE): per-view state must be rebuilt.
     pub views: bool,
+    /// Geometry moved (a dynamic object or an emitter): the vertex buffer holds it this frame.
+    pub geometry: bool,
 }
 
 impl Changes {
     pub fn any(&self) -> bool {
-        self.lights || self.camera || self.views
+        self.lights || self.camera || self.views || self.geometry
     }
+}
+
+/// How a method took moved geometry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Follow {
+    /// It updated what it keeps of the geometry.
+    Followed,
+    /// It cannot follow: build it again for the moved scene.
+    Rebuild,
 }
 
 /// What a method may read of the frame it records into.
@@ -131,6 +146,21 @@ pub trait GiMethod {
 
     /// Add indirect radiance to view `view`'s HDR image (after its direct lighting).
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()>;
+
+    /// Geometry moved before the next frame: `scene` is the scene as it is now and `regions` the
+    /// world boxes whose geometry changed (where each moved object was and where it is). The
+    /// frame's vertex buffer holds the new geometry from the next frame on. A method that keeps
+    /// state built from the geometry on the CPU updates it (only where `regions` touch, if it
+    /// can) and returns [`Follow::Followed`]; by default it asks to be built again.
+    fn geometry_moved(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        regions: &[Aabb],
+    ) -> anyhow::Result<Follow> {
+        let _ = (gpu, scene, regions);
+        Ok(Follow::Rebuild)
+    }
 
     /// Progress of a method that refines across frames (None: each frame is complete).
     fn convergence(&self) -> Option<Convergence> {

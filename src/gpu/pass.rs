@@ -809,22 +809,35 @@ impl<'a> Recorder<'a> {
         offset: u64,
         data: &[u8],
     ) {
-        if data.is_empty() {
+        self.update_buffer_runs(name, buffer, &[(offset, data.to_vec())]);
+    }
+
+    /// Write each run `(offset, data)` into `buffer` (offsets and lengths multiples of 4), in
+    /// the command stream, as one pass (one barrier, one timestamp scope).
+    pub fn update_buffer_runs(
+        &mut self,
+        name: &'static str,
+        buffer: &Buffer,
+        runs: &[(u64, Vec<u8>)],
+    ) {
+        if runs.iter().all(|(_, data)| data.is_empty()) {
             return;
         }
         let scope = self.begin_scope(name);
         self.sync(&[(Resource::Buffer(buffer), Access::TransferWrite)]);
         const MAX_UPDATE: usize = 65536;
-        for (k, chunk) in data.chunks(MAX_UPDATE).enumerate() {
-            let at = offset + (k * MAX_UPDATE) as u64;
-            // SAFETY: the buffer is alive and has TRANSFER_DST; the caller keeps `offset` and
-            // the data's length multiples of 4 and within the buffer.
-            unsafe {
-                self.gpu
-                    .shared
-                    .device
-                    .cmd_update_buffer(self.cmd, buffer.raw, at, chunk)
-            };
+        for (offset, data) in runs {
+            for (k, chunk) in data.chunks(MAX_UPDATE).enumerate() {
+                let at = offset + (k * MAX_UPDATE) as u64;
+                // SAFETY: the buffer is alive and has TRANSFER_DST; the caller keeps the
+                // offsets and the data's lengths multiples of 4 and within the buffer.
+                unsafe {
+                    self.gpu
+                        .shared
+                        .device
+                        .cmd_update_buffer(self.cmd, buffer.raw, at, chunk)
+                };
+            }
         }
         self.end_scope(scope);
     }

@@ -178,6 +178,7 @@ impl Frame {
                 lights: true,
                 camera: true,
                 views: true,
+                geometry: true,
             },
             frames_recorded: 0,
             asynchronous,
@@ -231,9 +232,10 @@ impl Frame {
         self.changes.lights = true;
     }
 
-    /// Take the scene's vertices `range` as they are now (an emitter moved, see
-    /// [`crate::scene::movable`]); the next recorded frame writes them before anything reads
-    /// them. Call [`Frame::set_lights`] too: the area-light samples move with their emitter.
+    /// Take the scene's vertices `range` as they are now (an emitter or a dynamic object moved,
+    /// see [`crate::scene::movable`] and [`crate::scene::dynamic`]); the next recorded frame
+    /// writes them before anything reads them. For an emitter call [`Frame::set_lights`] too:
+    /// the area-light samples move with it.
     pub fn set_vertices(&mut self, scene: &Scene, range: std::ops::Range<u32>) {
         let vertices: Vec<GpuVertex> = range
             .clone()
@@ -242,6 +244,7 @@ impl Frame {
         let offset = u64::from(range.start) * std::mem::size_of::<GpuVertex>() as u64;
         self.pending_vertices
             .push((offset, bytemuck::cast_slice(&vertices).to_vec()));
+        self.changes.geometry = true;
     }
 
     /// How this frame submits a method's parts (after resolving `SubmitPlan::Auto`).
@@ -289,9 +292,7 @@ impl Frame {
         };
         segments.head(&mut |rec| {
             rec.set_context(tag(Stage::Scene, None));
-            for (offset, vertices) in &pending_vertices {
-                rec.update_buffer_at("update vertices", &frame.scene.vertices, *offset, vertices);
-            }
+            rec.update_buffer_runs("update vertices", &frame.scene.vertices, &pending_vertices);
             if let Some((lights, views)) = &pending {
                 rec.update_buffer("update lights", &frame.scene.lights, lights);
                 rec.update_buffer("update shadow views", &frame.scene.shadow_views, views);

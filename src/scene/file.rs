@@ -23,15 +23,28 @@
 //! radiance = 40                 # W/(m²·sr), or flux = … (watts leaving it); one of the two
 //! color = [1, 1, 1]             # optional tint
 //! two_sided = false             # optional: emit from the back face too
+//! [[dynamic]]                   # an object that moves while the scene renders
+//! object = "tall_block"         # an OBJ object (o) or group (g) of the mesh, or instead:
+//! # box = [[0, 0, 0], [100, 100, 100]]  # a closed box (min, max corners) the file adds
+//! # albedo = [0.8, 0.8, 0.8]    # the box's albedo (default 0.8 grey)
+//! # name = "door"               # optional (default: the object's name, or box-N)
+//! path = [{ frame = 0, offset = [0, 0, 0] }, { frame = 60, offset = [-150, 0, 0] }]
+//! loop = false                  # optional: repeat the path after its last keyframe
 //! ```
+//!
+//! A path's offsets move the object from where the mesh puts it (file units, scaled), linearly
+//! between keyframes; before the first keyframe it is at the first offset, after the last at
+//! the last (or, looped, the path starts again).
 
+use std::ops::Range;
 use std::path::Path;
 
 use glam::Vec3;
 use serde::{Deserialize, Deserializer};
 
-use super::obj::{self, ObjSource};
-use super::{Camera, Light, LightKind, Scene};
+use super::dynamic;
+use super::obj::{self, ObjMesh, ObjSource};
+use super::{Camera, Light, LightKind, Material, Mesh, Scene};
 use crate::error::InputError;
 
 #[derive(Deserialize)]
@@ -43,7 +56,35 @@ pub struct SceneFile {
     pub camera: Option<CameraFile>,
     #[serde(default, rename = "light")]
     pub lights: Vec<LightFile>,
+    #[serde(default)]
+    pub dynamic: Vec<DynamicFile>,
 }
+
+/// An object that moves by a path (see the module's example).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicFile {
+    object: Option<String>,
+    #[serde(rename = "box", default, deserialize_with = "optional_two_vectors")]
+    cuboid: Option<[[f32; 3]; 2]>,
+    #[serde(default, deserialize_with = "optional_three")]
+    albedo: Option<[f32; 3]>,
+    name: Option<String>,
+    path: Vec<KeyframeFile>,
+    #[serde(default, rename = "loop")]
+    looped: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct KeyframeFile {
+    frame: u64,
+    #[serde(deserialize_with = "three")]
+    offset: [f32; 3],
+}
+
+/// Albedo of a dynamic box without one.
+const DEFAULT_BOX_ALBEDO: f32 = 0.8;
 
 fn unit_scale() -> f32 {
     1.0
@@ -119,6 +160,12 @@ pub struct AreaLightFile {
     two_sided: bool,
 }
 
+fn optional_two_vectors<'de, D: Deserializer<'de>>(
+    d: D,
+) -> Result<Option<[[f32; 3]; 2]>, D::Error> {
+    two_vectors(d).map(Some)
+}
+
 fn two_vectors<'de, D: Deserializer<'de>>(d: D) -> Result<[[f32; 3]; 2], D::Error> {
     let values = Vec::<Vec<f32>>::deserialize(d)?;
     let vectors: Option<Vec<[f32; 3]>> = values
@@ -127,7 +174,7 @@ fn two_vectors<'de, D: Deserializer<'de>>(d: D) -> Result<[[f32; 3]; 2], D::Erro
         .collect();
     vectors
         .and_then(|v| <[[f32; 3]; 2]>::try_from(v).ok())
-        .ok_or_else(|| serde::de::Error::custom("expected two edge vectors [[x, y, z], [x, y, z]]"))
+        .ok_or_else(|| serde::de::Error::custom("expected two vectors [[x, y, z], [x, y, z]]"))
 }
 
 impl AreaLightFile {
@@ -203,12 +250,19 @@ impl SceneFile {
     }
 
     /// Build the scene around an already-loaded mesh (in file units, scaled by the caller).
-    pub fn into_scene(
-        self,
-        name: String,
-        mut mesh: super::Mesh,
-        mut materials: Vec<super::Material>,
-    ) -> Result<Scene, InputError> {
+    pub fn into_scene(self, name: String, obj: ObjMesh) -> Result<Scene, InputError> {
+        let ObjMesh {
+            mut mesh,
+            mut materials,
+            objects,
+        } = obj;
+        let mut dynamic = Vec::new();
+        for (index, d) in self.dynamic.iter().enumerate() {
+            let (object_name, triangles) = d
+                .triangles(index, &objects, &mut mesh, &mut materials, self.scale)
+                .map_err(|m| InputError::new(format!("scene '{name}': {m}")))?;
+            dynamic.push((object_name, triangles, d.path(index, self.scale)));
+        }
         let s = self.scale;
         let v = |a: [f32; 3]| Vec3::from(a) * s;
         for (index, light) in self.lights.iter().enumerate() {
@@ -272,7 +326,78 @@ impl SceneFile {
                 Camera::framing(min, max)
             }
         };
-        Scene::new(name, mesh, materials, lights, camera)
+        let mut scene = Scene::new(name, mesh, materials, lights, camera)?;
+        for (object_name, triangles, path) in dynamic {
+            let path = path.map_err(|m| InputError::new(format!("scene '{}': {m}", scene.name)))?;
+            scene.add_dynamic(&object_name, &triangles, path)?;
+        }
+        Ok(scene)
+    }
+}
+
+impl DynamicFile {
+    /// The name and triangles of dynamic object `index`: an object or group of the OBJ, or a
+    /// box appended to the mesh with a material of its own.
+    fn triangles(
+        &self,
+        index: usize,
+        objects: &[(String, Range<usize>)],
+        mesh: &mut Mesh,
+        materials: &mut Vec<Material>,
+        scale: f32,
+    ) -> Result<(String, Vec<usize>), String> {
+        let what = format!("dynamic object {}", index + 1);
+        match (&self.object, &self.cuboid) {
+            (Some(object), None) => {
+                if self.albedo.is_some() {
+                    return Err(format!(
+                        "{what}: albedo is for a box (an object keeps its materials)"
+                    ));
+                }
+                let triangles = obj::triangles_of(objects, object);
+                if triangles.is_empty() {
+                    return Err(format!(
+                        "{what}: the mesh has no object or group '{object}' with triangles"
+                    ));
+                }
+                Ok((
+                    self.name.clone().unwrap_or_else(|| object.clone()),
+                    triangles,
+                ))
+            }
+            (None, Some([min, max])) => {
+                let (min, max) = (Vec3::from(*min) * scale, Vec3::from(*max) * scale);
+                if !(min.is_finite() && max.is_finite() && min.cmplt(max).all()) {
+                    return Err(format!(
+                        "{what}: a box needs finite corners with min < max on every axis"
+                    ));
+                }
+                let albedo = Vec3::from(self.albedo.unwrap_or([DEFAULT_BOX_ALBEDO; 3]));
+                let name = self
+                    .name
+                    .clone()
+                    .unwrap_or_else(|| format!("box-{}", index + 1));
+                let material = materials.len() as u32;
+                materials.push(Material::diffuse(&name, albedo));
+                let first = mesh.triangle_count();
+                mesh.push_cuboid(min, max, material);
+                Ok((name, (first..mesh.triangle_count()).collect()))
+            }
+            _ => Err(format!(
+                "{what}: give exactly one of object = \"NAME\" or box = [[min], [max]]"
+            )),
+        }
+    }
+
+    /// The path of dynamic object `index`, its offsets scaled.
+    fn path(&self, index: usize, scale: f32) -> Result<dynamic::Path, String> {
+        let keys = self
+            .path
+            .iter()
+            .map(|k| (k.frame, Vec3::from(k.offset) * scale))
+            .collect();
+        dynamic::Path::new(keys, self.looped)
+            .map_err(|m| format!("dynamic object {}: {m}", index + 1))
     }
 }
 
@@ -306,8 +431,8 @@ pub fn load_embedded(
 ) -> Result<Scene, InputError> {
     let file = SceneFile::parse(scene_file, name)?;
     let source = ObjSource::Embedded { name, obj, mtl };
-    let (mesh, materials) = obj::load(&source, file.scale)?;
-    file.into_scene(name.to_string(), mesh, materials)
+    let loaded = obj::load(&source, file.scale)?;
+    file.into_scene(name.to_string(), loaded)
 }
 
 /// Load a scene file from disk; its mesh path is relative to the file.
@@ -317,12 +442,12 @@ pub fn load_scene_file(path: &Path) -> Result<Scene, InputError> {
         .map_err(|e| InputError::new(format!("{origin}: cannot read scene file: {e}")))?;
     let file = SceneFile::parse(&text, &origin)?;
     let mesh_path = path.parent().unwrap_or(Path::new(".")).join(&file.mesh);
-    let (mesh, materials) = obj::load(&ObjSource::File(&mesh_path), file.scale)?;
+    let loaded = obj::load(&ObjSource::File(&mesh_path), file.scale)?;
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
-    file.into_scene(name, mesh, materials)
+    file.into_scene(name, loaded)
 }
 
 #[cfg(test)]
@@ -370,18 +495,85 @@ mod tests {
         assert_eq!(file.scale, 1.0);
     }
 
-    fn floor() -> (super::super::Mesh, Vec<super::super::Material>) {
-        let mut mesh = super::super::Mesh::default();
+    /// A floor triangle, as the OBJ object "floor".
+    fn floor() -> ObjMesh {
+        let mut mesh = Mesh::default();
         let corners = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 0.0, -1.0)];
         mesh.push_triangle(corners, [Vec3::ZERO; 3], 0);
-        let material = super::super::Material::diffuse("floor", Vec3::splat(0.5));
-        (mesh, vec![material])
+        let material = Material::diffuse("floor", Vec3::splat(0.5));
+        ObjMesh {
+            mesh,
+            materials: vec![material],
+            objects: vec![("floor".into(), 0..1)],
+        }
     }
 
     fn area_scene(light: &str) -> Result<Scene, InputError> {
         let text = format!("mesh = \"a.obj\"\nscale = 0.5\n[[light]]\ntype = \"area\"\n{light}");
-        let (mesh, materials) = floor();
-        SceneFile::parse(&text, "s")?.into_scene("s".into(), mesh, materials)
+        SceneFile::parse(&text, "s")?.into_scene("s".into(), floor())
+    }
+
+    fn dynamic_scene(dynamic: &str) -> Result<Scene, InputError> {
+        let text = format!(
+            "mesh = \"a.obj\"\nscale = 0.5\n[[light]]\ntype = \"point\"\nposition = [0, 2, 0]\nflux = 1\n[[dynamic]]\n{dynamic}"
+        );
+        SceneFile::parse(&text, "s")?.into_scene("s".into(), floor())
+    }
+
+    #[test]
+    fn dynamic_objects_are_named_objects_or_added_boxes_with_scaled_paths() {
+        let object = dynamic_scene(
+            "object = \"floor\"\npath = [{ frame = 0, offset = [0, 0, 0] }, { frame = 10, offset = [2, 0, 0] }]\n",
+        )
+        .unwrap();
+        assert_eq!(object.dynamic.len(), 1);
+        assert_eq!(object.dynamic[0].name, "floor");
+        assert_eq!(
+            object.dynamic[0].path.at(5),
+            Vec3::new(0.5, 0.0, 0.0),
+            "scaled"
+        );
+        assert!(
+            (object.bounds_max.x - 2.0).abs() < 1e-6,
+            "bounds take in the path"
+        );
+        let cube = dynamic_scene(
+            "box = [[0, 0, 0], [1, 1, 1]]\nalbedo = [0.2, 0.3, 0.4]\nname = \"door\"\nloop = true\npath = [{ frame = 0, offset = [0, 0, 0] }, { frame = 4, offset = [0, 2, 0] }]\n",
+        )
+        .unwrap();
+        let door = &cube.dynamic[0];
+        assert_eq!((door.name.as_str(), door.vertices.len()), ("door", 36));
+        assert_eq!(
+            door.path.at(6),
+            Vec3::new(0.0, 0.5, 0.0),
+            "looped and scaled"
+        );
+        assert_eq!(cube.materials[1].albedo, Vec3::new(0.2, 0.3, 0.4));
+        assert_eq!(cube.mesh.triangle_count(), 13);
+    }
+
+    #[test]
+    fn bad_dynamic_objects_are_one_line_errors() {
+        let still = "path = [{ frame = 0, offset = [0, 0, 0] }]\n";
+        let errors = [
+            format!("object = \"wall\"\n{still}"),
+            format!("object = \"floor\"\nbox = [[0, 0, 0], [1, 1, 1]]\n{still}"),
+            still.to_string(),
+            format!("box = [[0, 0, 0], [1, 0, 1]]\n{still}"),
+            format!("object = \"floor\"\nalbedo = [1, 1, 1]\n{still}"),
+            "object = \"floor\"\npath = []\n".into(),
+            "object = \"floor\"\npath = [{ frame = 2, offset = [0, 0, 0] }, { frame = 1, offset = [0, 0, 0] }]\n".into(),
+            "object = \"floor\"\npath = [{ frame = -1, offset = [0, 0, 0] }]\n".into(),
+            "object = \"floor\"\npath = [{ frame = 0, offset = [0, 0] }]\n".into(),
+            "object = \"floor\"\npath = [{ frame = 0, offset = [nan, 0, 0] }]\n".into(),
+            format!("object = \"floor\"\n{still}speed = 2\n"),
+        ];
+        for dynamic in errors {
+            let err = dynamic_scene(&dynamic)
+                .err()
+                .unwrap_or_else(|| panic!("accepted {dynamic}"));
+            assert!(!err.0.contains('\n'), "{err}");
+        }
     }
 
     #[test]

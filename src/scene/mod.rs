@@ -4,6 +4,7 @@
 pub mod builtin;
 pub mod bvh;
 pub mod camera;
+pub mod dynamic;
 pub mod emitters;
 pub mod export;
 pub mod file;
@@ -163,6 +164,8 @@ pub struct Scene {
     /// Cosine-lobed lights the rasteriser and RSM-based methods sample the emissive triangles
     /// with (the path tracer samples the triangles themselves).
     pub area_samples: u32,
+    /// Objects that move while the scene renders (see [`dynamic`]).
+    pub dynamic: Vec<dynamic::DynamicObject>,
 }
 
 /// Area-light samples for rasterisation unless `--area-samples` says otherwise.
@@ -185,7 +188,9 @@ impl Scene {
             Some("toml") => file::load_scene_file(path),
             Some("gltf" | "glb") => gltf_scene::load(path),
             Some("obj") => {
-                let (mesh, materials) = obj::load(&obj::ObjSource::File(path), 1.0)?;
+                let obj::ObjMesh {
+                    mesh, materials, ..
+                } = obj::load(&obj::ObjSource::File(path), 1.0)?;
                 let name = path
                     .file_stem()
                     .map(|s| s.to_string_lossy().into_owned())
@@ -282,6 +287,7 @@ impl Scene {
             bounds_min,
             bounds_max,
             area_samples: DEFAULT_AREA_SAMPLES,
+            dynamic: Vec::new(),
         })
     }
 

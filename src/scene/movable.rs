@@ -32,6 +32,8 @@ pub enum Movable {
     /// The triangles of material `material`, whose vertices are `vertices` and no other
     /// triangle's.
     Emitter { material: u32, vertices: Range<u32> },
+    /// `scene.dynamic[index]`, moved on top of its path.
+    Object(usize),
 }
 
 impl Movable {
@@ -60,6 +62,7 @@ impl Movable {
                 scene.materials[*material as usize].name,
                 vertices.len()
             ),
+            Movable::Object(i) => format!("dynamic object {}", scene.dynamic[*i].name),
         }
     }
 }
@@ -67,43 +70,29 @@ impl Movable {
 impl Scene {
     /// Give every emissive material's triangles vertices of their own, in one contiguous range
     /// per material at the end of the vertex array, and list what can be moved: the punctual
-    /// lights, then the emitters. The scene renders exactly as before (the copies are equal).
+    /// lights, then the emitters, then the dynamic objects. The scene renders exactly as before
+    /// (the copies are equal).
     pub fn movables(&mut self) -> Vec<Movable> {
         let mut movables: Vec<Movable> = (0..self.lights.len()).map(Movable::Light).collect();
         for material in 0..self.materials.len() as u32 {
             if self.materials[material as usize].emission.max_element() <= 0.0 {
                 continue;
             }
-            let first = self.mesh.positions.len() as u32;
-            let mut copied = std::collections::HashMap::new();
-            for t in 0..self.mesh.triangle_count() {
-                if self.mesh.materials[t] != material {
-                    continue;
-                }
-                for corner in 0..3 {
-                    let old = self.mesh.indices[t][corner];
-                    let new = *copied.entry(old).or_insert_with(|| {
-                        let mesh = &mut self.mesh;
-                        mesh.positions.push(mesh.positions[old as usize]);
-                        mesh.normals.push(mesh.normals[old as usize]);
-                        mesh.texcoords.push(mesh.texcoords[old as usize]);
-                        mesh.positions.len() as u32 - 1
-                    });
-                    self.mesh.indices[t][corner] = new;
-                }
-            }
-            let end = self.mesh.positions.len() as u32;
-            if end > first {
-                movables.push(Movable::Emitter {
-                    material,
-                    vertices: first..end,
-                });
+            let mesh = &self.mesh;
+            let of_material: Vec<bool> = (0..mesh.triangle_count())
+                .map(|t| mesh.materials[t] == material)
+                .collect();
+            let vertices = self.own_vertices(|t| of_material[t]);
+            if !vertices.is_empty() {
+                movables.push(Movable::Emitter { material, vertices });
             }
         }
+        movables.extend((0..self.dynamic.len()).map(Movable::Object));
         movables
     }
 
-    /// Move `which` by `step` (metres). Bounds grow to take in a moved emitter.
+    /// Move `which` by `step` (metres). Bounds grow to take in a moved emitter; a dynamic object
+    /// stays inside them (see [`Scene::nudge`]) and moves at the next [`Scene::pose`].
     pub fn move_by(&mut self, which: &Movable, step: Vec3) {
         match which {
             Movable::Light(i) => self.lights[*i].position += step,
@@ -115,6 +104,7 @@ impl Scene {
                     self.bounds_max = self.bounds_max.max(*p);
                 }
             }
+            Movable::Object(i) => self.nudge(*i, step),
         }
     }
 

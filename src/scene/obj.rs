@@ -8,6 +8,7 @@
 
 use std::cell::RefCell;
 use std::io::{BufRead, BufReader, Read};
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -95,17 +96,19 @@ fn scan_obj(name: &str, reader: impl BufRead) -> Result<Vec<String>, InputError>
 /// Faces per object tobj parses at a time (see [`Chunked`]).
 const CHUNK_FACES: usize = 1 << 16;
 
-/// An OBJ reader that starts a new object (`o`) every [`CHUNK_FACES`] faces. tobj holds every
-/// face of the current object parsed (about 100 bytes a face) until the object ends, so a
-/// single-object file of two million triangles would peak at six times its size; split into
-/// objects it holds one chunk. Objects keep the material in use, so the mesh is unchanged.
+/// An OBJ reader that starts a new object (`o`) of the same name every [`CHUNK_FACES`] faces.
+/// tobj holds every face of the current object parsed (about 100 bytes a face) until the object
+/// ends, so a single-object file of two million triangles would peak at six times its size;
+/// split into objects it holds one chunk. Objects keep the material in use and their name, so
+/// the mesh and its named objects are unchanged.
 struct Chunked<R: BufRead> {
     inner: R,
     /// Bytes read from `inner` (and injected) not yet handed out, from `at`.
     pending: Vec<u8>,
     at: usize,
     faces: usize,
-    chunks: usize,
+    /// The `o` or `g` line that named the current object (none before the first).
+    naming: Vec<u8>,
 }
 
 impl<R: BufRead> Chunked<R> {
@@ -115,7 +118,7 @@ impl<R: BufRead> Chunked<R> {
             pending: Vec::new(),
             at: 0,
             faces: 0,
-            chunks: 0,
+            naming: b"o\n".to_vec(),
         }
     }
 }
@@ -132,13 +135,15 @@ impl<R: BufRead> Read for Chunked<R> {
             let trimmed = line.trim_ascii_start();
             if trimmed.starts_with(b"o ") || trimmed.starts_with(b"g ") || trimmed == b"o" {
                 self.faces = 0;
+                self.naming = [b"o ", trimmed.get(2..).unwrap_or_default()].concat();
+                if !self.naming.ends_with(b"\n") {
+                    self.naming.push(b'\n');
+                }
             } else if trimmed.starts_with(b"f ") || trimmed.starts_with(b"f\t") {
                 self.faces += 1;
                 if self.faces > CHUNK_FACES {
                     self.faces = 1;
-                    self.chunks += 1;
-                    self.pending
-                        .extend_from_slice(format!("o part-{}\n", self.chunks).as_bytes());
+                    self.pending.extend_from_slice(&self.naming);
                 }
             }
             self.pending.extend_from_slice(&line);
@@ -169,8 +174,27 @@ fn check_mtl(origin: &str, text: &str) -> Result<(), InputError> {
     Ok(())
 }
 
-/// Load the triangles and materials of an OBJ, scaling positions by `scale`.
-pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), InputError> {
+/// What an OBJ holds.
+#[derive(Debug)]
+pub struct ObjMesh {
+    pub mesh: Mesh,
+    pub materials: Vec<Material>,
+    /// The triangles of each object (`o`) or group (`g`), by name, in file order; a name may
+    /// have several runs.
+    pub objects: Vec<(String, Range<usize>)>,
+}
+
+/// The triangles of every object or group of `objects` called `name`.
+pub fn triangles_of(objects: &[(String, Range<usize>)], name: &str) -> Vec<usize> {
+    objects
+        .iter()
+        .filter(|(n, _)| n == name)
+        .flat_map(|(_, r)| r.clone())
+        .collect()
+}
+
+/// Load the triangles, materials and named objects of an OBJ, scaling positions by `scale`.
+pub fn load(source: &ObjSource, scale: f32) -> Result<ObjMesh, InputError> {
     let name = source.name();
     let options = tobj::LoadOptions {
         single_index: true,
@@ -260,7 +284,9 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
         materials: Vec::with_capacity(triangles),
     };
     let mut skipped = 0usize;
+    let mut objects: Vec<(String, Range<usize>)> = Vec::new();
     for model in &models {
+        let first_triangle = mesh.triangle_count();
         let m = &model.mesh;
         let vertex_count = m.positions.len() / 3;
         for (v, p) in m.positions.chunks_exact(3).enumerate() {
@@ -374,6 +400,9 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
             mesh.indices.push(corners);
             mesh.materials.push(material);
         }
+        if mesh.triangle_count() > first_triangle {
+            objects.push((model.name.clone(), first_triangle..mesh.triangle_count()));
+        }
     }
     if mesh.triangle_count() == 0 {
         return Err(InputError::new(format!(
@@ -386,7 +415,11 @@ pub fn load(source: &ObjSource, scale: f32) -> Result<(Mesh, Vec<Material>), Inp
     if uses_default {
         materials.push(Material::diffuse("default", Vec3::splat(DEFAULT_ALBEDO)));
     }
-    Ok((mesh, materials))
+    Ok(ObjMesh {
+        mesh,
+        materials,
+        objects,
+    })
 }
 
 /// Textures a material library names, each read once however many materials use it.
@@ -468,7 +501,7 @@ fn convert_material(file: &str, m: &tobj::Material) -> Result<Material, InputErr
 mod tests {
     use super::*;
 
-    fn embedded(obj: &str, mtl: &str) -> Result<(Mesh, Vec<Material>), InputError> {
+    fn embedded_objects(obj: &str, mtl: &str) -> Result<ObjMesh, InputError> {
         load(
             &ObjSource::Embedded {
                 name: "t.obj",
@@ -477,6 +510,10 @@ mod tests {
             },
             1.0,
         )
+    }
+
+    fn embedded(obj: &str, mtl: &str) -> Result<(Mesh, Vec<Material>), InputError> {
+        embedded_objects(obj, mtl).map(|o| (o.mesh, o.materials))
     }
 
     const MTL: &str = "newmtl red\nKd 0.8 0.1 0.1\nKe 0 0 0\nnewmtl lamp\nKd 0 0 0\nKe 5 4 3\n";
@@ -570,7 +607,7 @@ mod tests {
     fn large_objects_are_read_in_chunks_into_the_same_mesh() {
         // A strip of 3 * CHUNK_FACES / 2 + 1 triangles in one object, with one material.
         let quads = 3 * CHUNK_FACES / 4 + 1;
-        let mut obj = String::from("mtllib t.mtl\nusemtl red\n");
+        let mut obj = String::from("mtllib t.mtl\nusemtl red\no strip\n");
         for i in 0..=quads {
             obj.push_str(&format!("v {i} 0 0\nv {i} 1 0\n"));
         }
@@ -578,7 +615,10 @@ mod tests {
             let (a, b) = (2 * i + 1, 2 * i + 3);
             obj.push_str(&format!("f {a} {b} {}\nf {a} {} {}\n", b + 1, b + 1, a + 1));
         }
-        let (mesh, materials) = embedded(&obj, MTL).unwrap();
+        let loaded = embedded_objects(&obj, MTL).unwrap();
+        let strip = triangles_of(&loaded.objects, "strip");
+        assert_eq!(strip.len(), 2 * quads, "the name spans the chunks");
+        let (mesh, materials) = (loaded.mesh, loaded.materials);
         assert_eq!(mesh.triangle_count(), 2 * quads);
         assert!(
             mesh.materials
@@ -644,7 +684,9 @@ mod tests {
         let obj = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.25\nvt 0.75 0.5\nvt 0 1\n\
                    usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 3/3 2/2\n";
         std::fs::write(dir.join("t.obj"), obj).unwrap();
-        let (mesh, materials) = load(&ObjSource::File(&dir.join("t.obj")), 1.0).unwrap();
+        let ObjMesh {
+            mesh, materials, ..
+        } = load(&ObjSource::File(&dir.join("t.obj")), 1.0).unwrap();
         let [a, b] = [&materials[0], &materials[1]].map(|m| m.albedo_texture.clone().unwrap());
         assert!(Arc::ptr_eq(&a, &b), "one image, read once");
         assert_eq!((a.width, a.height), (2, 1));

@@ -73,6 +73,96 @@ impl Lattice {
     pub fn cell_centre(&self, cell: UVec3) -> DVec3 {
         (self.origin.as_dvec3()) + (cell.as_dvec3() + 0.5) * f64::from(self.cell_size)
     }
+
+    /// Every cell.
+    pub fn all_cells(&self) -> CellBox {
+        CellBox {
+            min: UVec3::ZERO,
+            max: self.dims,
+        }
+    }
+
+    /// The cells the world box `min`..`max` touches, widened by `margin` cells on every side and
+    /// clipped to the lattice; None when nothing of it is inside.
+    pub fn cells_touching(&self, min: Vec3, max: Vec3, margin: u32) -> Option<CellBox> {
+        let cell = |p: Vec3| ((p - self.origin).as_dvec3() / f64::from(self.cell_size)).floor();
+        let clip = |c: DVec3| {
+            c.clamp(DVec3::ZERO, self.dims.as_dvec3())
+                .as_uvec3()
+        };
+        let margin = f64::from(margin);
+        let cells = CellBox {
+            min: clip(cell(min) - margin),
+            max: clip(cell(max) + margin + 1.0),
+        };
+        cells.min.cmplt(cells.max).all().then_some(cells)
+    }
+
+    /// The world box the cells of `cells` fill.
+    pub fn world_box(&self, cells: &CellBox) -> (Vec3, Vec3) {
+        let corner = |c: UVec3| self.origin + c.as_vec3() * self.cell_size;
+        (corner(cells.min), corner(cells.max))
+    }
+}
+
+/// A box of cells, `min` to `max` exclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CellBox {
+    pub min: UVec3,
+    pub max: UVec3,
+}
+
+impl CellBox {
+    pub fn count(&self) -> usize {
+        let d = self.max - self.min;
+        (d.x * d.y * d.z) as usize
+    }
+
+    /// Where cell `c` is among the box's cells (x fastest, then y, then z), if inside.
+    pub fn local_index(&self, c: UVec3) -> Option<usize> {
+        let inside = c.cmpge(self.min).all() && c.cmplt(self.max).all();
+        let d = self.max - self.min;
+        inside.then(|| {
+            let l = c - self.min;
+            ((l.z * d.y + l.y) * d.x + l.x) as usize
+        })
+    }
+
+    /// The box's cells, in the order of [`CellBox::local_index`].
+    pub fn cells(&self) -> impl Iterator<Item = UVec3> + '_ {
+        (self.min.z..self.max.z).flat_map(move |z| {
+            (self.min.y..self.max.y)
+                .flat_map(move |y| (self.min.x..self.max.x).map(move |x| UVec3::new(x, y, z)))
+        })
+    }
+
+    /// Whether the two boxes share a cell or a face (their union wastes little).
+    pub fn touches(&self, other: &CellBox) -> bool {
+        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+    }
+
+    pub fn union(&self, other: &CellBox) -> CellBox {
+        CellBox {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
+    }
+
+    /// `boxes` with every two that touch merged into their union, until none touch.
+    pub fn merged(mut boxes: Vec<CellBox>) -> Vec<CellBox> {
+        let mut i = 0;
+        while i < boxes.len() {
+            match (i + 1..boxes.len()).find(|&j| boxes[i].touches(&boxes[j])) {
+                Some(j) => {
+                    let other = boxes.swap_remove(j);
+                    boxes[i] = boxes[i].union(&other);
+                    i = 0;
+                }
+                None => i += 1,
+            }
+        }
+        boxes
+    }
 }
 
 #[cfg(test)]
@@ -99,6 +189,33 @@ mod tests {
         assert_eq!(c, UVec3::new(3, 0, 1));
         assert_eq!(l.index(c), 2 * 4 + 3);
         assert!(l.cell_of(Vec3::new(2.1, 0.1, 0.1)).is_none());
+    }
+
+    #[test]
+    fn world_boxes_become_clipped_cell_boxes_that_merge_where_they_touch() {
+        let l = Lattice::fit(Vec3::ZERO, Vec3::new(4.0, 2.0, 2.0), 8).unwrap();
+        let b = l
+            .cells_touching(Vec3::new(1.2, 0.1, 0.6), Vec3::new(1.3, 0.2, 0.9), 1)
+            .unwrap();
+        assert_eq!((b.min, b.max), (UVec3::new(1, 0, 0), UVec3::new(4, 2, 3)));
+        assert_eq!(b.count(), 3 * 2 * 3);
+        let order: Vec<usize> = b.cells().map(|c| b.local_index(c).unwrap()).collect();
+        assert_eq!(order, (0..b.count()).collect::<Vec<_>>());
+        assert_eq!(b.local_index(UVec3::new(4, 0, 0)), None);
+        assert!(l.cells_touching(Vec3::splat(9.0), Vec3::splat(10.0), 1).is_none());
+        assert_eq!(
+            l.cells_touching(Vec3::splat(-9.0), Vec3::splat(9.0), 0),
+            Some(l.all_cells())
+        );
+        let far = l
+            .cells_touching(Vec3::new(3.8, 1.8, 1.8), Vec3::new(3.9, 1.9, 1.9), 0)
+            .unwrap();
+        assert_eq!(CellBox::merged(vec![b, far]).len(), 2);
+        let near = CellBox {
+            min: UVec3::new(4, 0, 0),
+            max: UVec3::new(5, 1, 1),
+        };
+        assert_eq!(CellBox::merged(vec![b, far, near]), vec![b.union(&near), far]);
     }
 
     #[test]

@@ -8,14 +8,15 @@ use glam::DVec4;
 use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
-use super::lattice::Lattice;
+use super::lattice::{CellBox, Lattice};
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
 use crate::gi::registry::Setup;
 use crate::gi::shared::rsm::Rsm;
 use crate::gi::shared::sh;
-use crate::gi::{Convergence, CorePass, FrameContext, GiMethod};
-use crate::scene::Light;
+use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod};
+use crate::scene::dynamic::Aabb;
+use crate::scene::{Light, Scene};
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Part, Recorder,
     Specialization,
@@ -365,6 +366,16 @@ pub fn choose_tile(
 /// The colour channels: the method's independent parts.
 const CHANNELS: [&str; 3] = ["R", "G", "B"];
 
+/// The geometry lattice's last update after geometry moved.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct GeometryUpdate {
+    /// Cells rebuilt, of `cells` in the lattice.
+    pub rebuilt: usize,
+    pub cells: usize,
+    /// CPU time of the rebuild.
+    pub milliseconds: f64,
+}
+
 pub struct Lpv {
     pub settings: LpvSettings,
     pub lattice: Lattice,
@@ -388,6 +399,9 @@ pub struct Lpv {
     geometry: Buffer,
     neighbours: Buffer,
     axes: Buffer,
+    /// Rebuilt rows of the geometry lattice to write at the next frame: (byte offset, words).
+    pending_geometry: Vec<(u64, Vec<u8>)>,
+    geometry_update: Option<GeometryUpdate>,
     /// Which of the two lattices per channel holds the last frame's propagated light.
     result: usize,
     /// This frame's injection target, and where its channels left their results.
@@ -564,6 +578,8 @@ impl Lpv {
                 .upload_storage("geometry lattice", bytemuck::cast_slice(&geometry_f32))?,
             neighbours: gpu.upload_uniform("ilpv neighbours", bytemuck::cast_slice(&neighbours))?,
             axes: gpu.upload_uniform("lpv axes", bytemuck::cast_slice(&axes))?,
+            pending_geometry: Vec::new(),
+            geometry_update: None,
             result: 0,
             current: 0,
             pending_result: 0,
@@ -922,11 +938,16 @@ fn emitted_flux(raster_lights: &[Light]) -> [f64; 3] {
 
 impl Lpv {
     /// This frame's bookkeeping before its injection; returns the number of RSM views.
-    fn begin_frame(&mut self, ctx: &FrameContext) -> u32 {
+    fn begin_frame(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> u32 {
         if ctx.changes.lights {
             self.frames_since_change = 0;
             self.energy = emitted_flux(ctx.raster_lights);
         }
+        if ctx.changes.geometry {
+            self.frames_since_change = 0;
+        }
+        let rows = std::mem::take(&mut self.pending_geometry);
+        rec.update_buffer_runs("update geometry lattice", &self.geometry, &rows);
         // This frame's light goes into the lattice that does not hold last frame's result.
         self.current = if self.settings.scheme == Scheme::Ilpv {
             1 - self.result
@@ -944,8 +965,62 @@ impl Lpv {
         ctx: &FrameContext,
         rsm: &Rsm,
     ) -> GpuResult<()> {
-        let views = self.begin_frame(ctx);
+        let views = self.begin_frame(rec, ctx);
         self.record_inject(rec, rsm, self.current, views)
+    }
+
+    /// Rebuild the geometry lattice's cells that geometry moving in the world boxes `regions`
+    /// changes, from `scene` as it is now (see [`geometry::touched_cells`]), and queue their
+    /// rows for the next frame.
+    pub(super) fn follow_geometry(&mut self, scene: &Scene, regions: &[Aabb]) {
+        let start = std::time::Instant::now();
+        let lobe = self.settings.blocking_lobe;
+        let strength = f64::from(self.settings.blocking_strength);
+        let mut rebuilt = 0;
+        for region in geometry::touched_cells(&self.lattice, lobe, regions) {
+            let words =
+                geometry::build_region(&scene.mesh, &self.lattice, &self.transfer, lobe, &region)
+                    .scaled(strength)
+                    .to_f32();
+            self.queue_geometry_rows(&region, &words);
+            rebuilt += region.count();
+        }
+        self.geometry_update = Some(GeometryUpdate {
+            rebuilt,
+            cells: self.lattice.cell_count(),
+            milliseconds: start.elapsed().as_secs_f64() * 1e3,
+        });
+    }
+
+    /// Queue the words of the cells of `region` (in its order) as runs of consecutive cells of
+    /// the lattice: one per row of the region, or fewer where rows span the lattice.
+    fn queue_geometry_rows(&mut self, region: &CellBox, words: &[[f32; 4]]) {
+        let k = self.geometry_words() as usize;
+        let bytes_per_cell = (k * 16) as u64;
+        let row = (region.max.x - region.min.x) as usize;
+        for (r, row_words) in words.chunks(row * k).enumerate() {
+            let first = glam::UVec3::new(
+                region.min.x,
+                region.min.y + (r as u32) % (region.max.y - region.min.y),
+                region.min.z + (r as u32) / (region.max.y - region.min.y),
+            );
+            let offset = self.lattice.index(first) as u64 * bytes_per_cell;
+            let bytes: &[u8] = bytemuck::cast_slice(row_words);
+            match self.pending_geometry.last_mut() {
+                Some((at, run)) if *at + run.len() as u64 == offset => run.extend_from_slice(bytes),
+                _ => self.pending_geometry.push((offset, bytes.to_vec())),
+            }
+        }
+    }
+
+    /// The last update of the geometry lattice after geometry moved.
+    pub fn geometry_update(&self) -> Option<GeometryUpdate> {
+        self.geometry_update
+    }
+
+    /// The geometry lattice as the GPU holds it (tests).
+    pub fn read_geometry(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 4]>> {
+        Ok(bytemuck::cast_slice(&gpu.read_buffer(&self.geometry)?).to_vec())
     }
 
     /// The RSM this lattice renders, if it renders one.
@@ -968,7 +1043,7 @@ impl GiMethod for Lpv {
     }
 
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
-        let views = self.begin_frame(ctx);
+        let views = self.begin_frame(rec, ctx);
         let Some(rsm) = &self.rsm else {
             return Err(GpuError::Setup(
                 "a far-field lattice injects from its near field's RSM".into(),
@@ -1024,6 +1099,25 @@ impl GiMethod for Lpv {
             ],
             push: &push,
             threads: [view.width(), view.height(), 1],
+        })
+    }
+
+    fn geometry_moved(
+        &mut self,
+        _gpu: &Gpu,
+        scene: &Scene,
+        regions: &[Aabb],
+    ) -> anyhow::Result<Follow> {
+        self.follow_geometry(scene, regions);
+        Ok(Follow::Followed)
+    }
+
+    fn status(&self) -> Option<String> {
+        self.geometry_update.map(|u| {
+            format!(
+                "geometry lattice: {} of {} cells rebuilt in {:.1} ms at the last move",
+                u.rebuilt, u.cells, u.milliseconds
+            )
         })
     }
 

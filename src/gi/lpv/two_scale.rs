@@ -17,9 +17,11 @@
 
 use super::free_path::mean_free_path;
 use super::technique::{FarLattice, Field, IlpvLookup, Lpv, LpvSettings, Scheme};
-use crate::gi::{Convergence, CorePass, FrameContext, GiMethod};
 use crate::gi::registry::Setup;
-use crate::gpu::{GpuError, GpuResult, Recorder};
+use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod};
+use crate::gpu::{Gpu, GpuError, GpuResult, Recorder};
+use crate::scene::Scene;
+use crate::scene::dynamic::Aabb;
 
 /// `--far-lattice auto`: far cells of this many mean free paths of the scene (0.45: 5 cells
 /// across the Cornell box, about 11 across four-boxes, where the grids in docs/lpv.md found
@@ -83,6 +85,29 @@ impl GiMethod for TwoScale {
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
         self.near.record_lookup(rec, ctx, view)?;
         self.far.record_lookup(rec, ctx, view)
+    }
+
+    fn geometry_moved(
+        &mut self,
+        _gpu: &Gpu,
+        scene: &Scene,
+        regions: &[Aabb],
+    ) -> anyhow::Result<Follow> {
+        self.near.follow_geometry(scene, regions);
+        self.far.follow_geometry(scene, regions);
+        Ok(Follow::Followed)
+    }
+
+    fn status(&self) -> Option<String> {
+        let (near, far) = (self.near.geometry_update()?, self.far.geometry_update()?);
+        Some(format!(
+            "geometry lattices: {} of {} near and {} of {} far cells rebuilt in {:.1} ms at the last move",
+            near.rebuilt,
+            near.cells,
+            far.rebuilt,
+            far.cells,
+            near.milliseconds + far.milliseconds
+        ))
     }
 
     /// The near field is complete every frame; the far field carries the blend.

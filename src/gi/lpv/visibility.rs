@@ -12,7 +12,8 @@
 
 use glam::{DVec4, IVec3, Vec3};
 
-use super::lattice::Lattice;
+use super::geometry::overlaps;
+use super::lattice::{CellBox, Lattice};
 use crate::scene::Mesh;
 use crate::scene::bvh::Bvh;
 
@@ -45,30 +46,45 @@ fn upper_offsets() -> impl Iterator<Item = IVec3> {
     (14..27).map(|i| IVec3::new(i % 3, (i / 3) % 3, i / 9) - 1)
 }
 
-/// The visibility words of every cell of `lattice` for `mesh`: 1 where the segment toward the
-/// neighbour crosses a surface, 0 where not.
-pub fn build(mesh: &Mesh, lattice: &Lattice) -> Vec<DVec4> {
-    let bvh = Bvh::build(mesh);
+/// The visibility words of the cells of `region` (in its order, see
+/// [`CellBox::local_index`]) for `mesh`: 1 where the segment toward the neighbour crosses a
+/// surface, 0 where not. Only the triangles whose boxes reach the region's segments are
+/// searched: whether a segment crosses any triangle does not depend on the others.
+pub fn build_region(mesh: &Mesh, lattice: &Lattice, region: &CellBox) -> Vec<DVec4> {
     let d = lattice.cell_size;
+    // Segments run from a centre (plus the jitter) to a neighbour's: at most a cell and a half
+    // beyond the region's box.
+    let (min, max) = lattice.world_box(region);
+    let reach = (min - 1.5 * d, max + 1.5 * d);
+    let nearby;
+    let mesh = if *region == lattice.all_cells() {
+        mesh
+    } else {
+        let mut part = Mesh::default();
+        for t in (0..mesh.triangle_count()).filter(|&t| overlaps(mesh, t, reach)) {
+            part.push_triangle(mesh.triangle(t), [Vec3::ZERO; 3], 0);
+        }
+        nearby = part;
+        &nearby
+    };
+    let mut words = vec![DVec4::ZERO; region.count() * WORDS];
+    if mesh.triangle_count() == 0 {
+        return words;
+    }
+    let bvh = Bvh::build(mesh);
     let jitter = Vec3::from(JITTER) * d;
-    let mut words = vec![DVec4::ZERO; lattice.cell_count() * WORDS];
-    let dims = lattice.dims.as_ivec3();
-    for z in 0..dims.z {
-        for y in 0..dims.y {
-            for x in 0..dims.x {
-                let cell = IVec3::new(x, y, z);
-                let from = lattice.cell_centre(cell.as_uvec3()).as_vec3() + jitter;
-                let base = lattice.index(cell.as_uvec3()) * WORDS;
-                for (k, o) in upper_offsets().enumerate() {
-                    if lattice.checked(cell + o).is_none() {
-                        continue;
-                    }
-                    let to = o.as_vec3() * d;
-                    let length = to.length();
-                    if bvh.intersect(mesh, from, to / length, 0.0, length).is_some() {
-                        words[base + k / 4][k % 4] = 1.0;
-                    }
-                }
+    for (local, cell) in region.cells().enumerate() {
+        let cell = cell.as_ivec3();
+        let from = lattice.cell_centre(cell.as_uvec3()).as_vec3() + jitter;
+        let base = local * WORDS;
+        for (k, o) in upper_offsets().enumerate() {
+            if lattice.checked(cell + o).is_none() {
+                continue;
+            }
+            let to = o.as_vec3() * d;
+            let length = to.length();
+            if bvh.intersect(mesh, from, to / length, 0.0, length).is_some() {
+                words[base + k / 4][k % 4] = 1.0;
             }
         }
     }
@@ -117,7 +133,7 @@ mod tests {
         let lattice = Lattice::fit(Vec3::ZERO, Vec3::splat(4.0), 4).unwrap();
         let mut mesh = Mesh::default();
         mesh.push_cuboid(Vec3::splat(1.2), Vec3::splat(2.8), 0);
-        let words = build(&mesh, &lattice);
+        let words = build_region(&mesh, &lattice, &lattice.all_cells());
         let cell = |c: IVec3| &words[lattice.index(c.as_uvec3()) * WORDS..][..WORDS];
         let inside = |c: IVec3| c.cmpge(IVec3::ONE).all() && c.cmple(IVec3::splat(2)).all();
         let mut crossing = 0;
