@@ -256,6 +256,65 @@ fn a_moved_light_is_followed_within_the_declared_settle_frames() {
     common::assert_no_validation_errors(&gpu);
 }
 
+#[test]
+fn a_moved_object_is_followed_within_the_declared_settle_frames() {
+    let gpu = common::gpu();
+    // The Cornell box's tall block (its last 10 triangles) jumps 0.12 m toward the red wall
+    // once the method has settled.
+    let scene = Scene::load("cornell").unwrap();
+    let n = scene.mesh.triangle_count();
+    let block: Vec<usize> = (n - 10..n).collect();
+    let step = Vec3::new(0.12, 0.0, -0.06);
+    for entry in registry::methods() {
+        let frames = u64::from(settle_frames(entry));
+        let keys = vec![(frames - 1, Vec3::ZERO), (frames, step)];
+        let path = vkgi::scene::dynamic::Path::new(keys, false).unwrap();
+        let mut moving = scene.clone();
+        moving.add_dynamic("tall", &block, path).unwrap();
+        let mut frame = Frame::new(&gpu, &moving, options(true)).unwrap();
+        let mut method = build(&gpu, &moving, entry);
+        run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, frames as u32).unwrap();
+        let before = frame.read_hdr(&gpu).unwrap();
+        let rebuild = |s: &Scene| Ok(build(&gpu, s, entry));
+        let mut at_end = moving.clone();
+        at_end.pose(2 * frames - 1);
+        let fresh = render(&gpu, &at_end, Some(entry), true);
+        // Frames `frames`..2 frames of the animation: the block moves in the first.
+        for index in frames..2 * frames {
+            let moved = moving.pose(index);
+            let mut ring = FrameRing::new(&gpu, 2).unwrap();
+            vkgi::render::runner::follow(
+                &gpu,
+                &mut ring,
+                &mut frame,
+                &moving,
+                &moved,
+                Some(&mut method),
+                &rebuild,
+            )
+            .unwrap();
+            frame
+                .submit(&gpu, &mut ring, Some(method.as_mut()))
+                .unwrap();
+            ring.finish().unwrap();
+        }
+        let after = frame.read_hdr(&gpu).unwrap();
+        let change = mean_abs_difference(&before, &fresh);
+        let lag = mean_abs_difference(&after, &fresh);
+        assert!(
+            change > 0.0,
+            "{}: moving the block changed nothing",
+            entry.name
+        );
+        assert!(
+            lag <= 0.05 * change,
+            "{}: {frames} frames after the move, {lag:e} from the settled image (the move changed it by {change:e})",
+            entry.name
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
 /// Runs of each (stage, pass) of `method` per frame.
 fn runs_per_frame(ring: &FrameRing, method: &str) -> HashMap<(Stage, &'static str), f64> {
     let samples = ring.profiler.samples();

@@ -18,15 +18,16 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
 
-use crate::gi::GiMethod;
 use crate::gi::registry::{self, MethodEntry};
 use crate::gi::settings::{Setting, Settings};
+use crate::gi::{Follow, GiMethod};
 use crate::gpu::frames::{FrameRing, SemaphoreWait};
 use crate::gpu::{Gpu, GpuOptions, Stage};
 use crate::imageio::HdrImage;
 use crate::render::runner::FRAMES_IN_FLIGHT;
 use crate::render::{Epilogue, Eye, Frame};
 use crate::scene::Scene;
+use crate::scene::dynamic::Moved;
 use crate::scene::movable::Movable;
 use crate::view::cave::Cave;
 use crate::view::fly::FlyCamera;
@@ -361,6 +362,7 @@ impl Running {
         self.ring.finish()?;
         self.gpu.wait_idle()?;
         self.technique = None;
+        self.frame.restart_method();
         let (Some(entry), Some(index)) = (self.method, self.method_index()) else {
             return Ok(());
         };
@@ -565,11 +567,38 @@ impl Running {
         }
         let step = light * 0.5 * self.fly.speed * seconds;
         self.scene.move_by(which, step);
-        if let Movable::Emitter { vertices, .. } = which {
-            self.frame.set_vertices(&self.scene, vertices.clone());
-            self.geometry_moved = true;
+        match which {
+            Movable::Emitter { vertices, .. } => {
+                self.frame.set_vertices(&self.scene, vertices.clone());
+                self.geometry_moved = true;
+                self.frame.set_lights(&self.scene);
+            }
+            Movable::Light(_) => self.frame.set_lights(&self.scene),
+            // Posed with the next frame (see `pose_dynamic`).
+            Movable::Object(_) => {}
         }
-        self.frame.set_lights(&self.scene);
+        Ok(())
+    }
+
+    /// Pose the dynamic objects for the frame about to be drawn (their paths, and the arrow
+    /// keys' nudges): the frame takes their vertices, and the GI method follows them or is made
+    /// again.
+    fn pose_dynamic(&mut self) -> anyhow::Result<()> {
+        let moved = self.scene.pose(self.frames_shown);
+        if moved.is_empty() {
+            return Ok(());
+        }
+        for m in &moved {
+            self.frame.set_vertices(&self.scene, m.vertices.clone());
+        }
+        let regions = Moved::regions(&moved);
+        let follow = match self.technique.as_mut() {
+            Some(t) => t.geometry_moved(&self.gpu, &self.scene, &regions)?,
+            None => Follow::Followed,
+        };
+        if follow == Follow::Rebuild {
+            self.rebuild_technique()?;
+        }
         Ok(())
     }
 
@@ -587,6 +616,7 @@ impl Running {
         if let Some(code) = scripted {
             self.held.remove(&code);
         }
+        self.pose_dynamic()?;
         if self.minimised() {
             return Ok(Flow::Continue); // the swapchain is rebuilt once the window has an area
         }

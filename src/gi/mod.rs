@@ -43,6 +43,14 @@ pub struct Changes {
 }
 
 impl Changes {
+    /// Everything changed (a method's first frame).
+    pub const ALL: Changes = Changes {
+        lights: true,
+        camera: true,
+        views: true,
+        geometry: true,
+    };
+
     pub fn any(&self) -> bool {
         self.lights || self.camera || self.views || self.geometry
     }
@@ -69,7 +77,8 @@ pub struct FrameContext<'a> {
     /// The lights the rasteriser draws, in the order of `scene.lights` on the GPU: `lights`,
     /// then the area-light samples (see `Scene::raster_lights`).
     pub raster_lights: &'a [Light],
-    /// Frames this frame object recorded before this one.
+    /// Frames the method was given before this one (0: its first frame, see
+    /// `Frame::restart_method`).
     pub frame: u64,
     /// What changed since the previous frame (everything, on the first frame).
     pub changes: Changes,

@@ -91,6 +91,7 @@ pub struct Frame {
     pending_vertices: Vec<(u64, Vec<u8>)>,
     /// What changed since the last recorded frame (everything before the first).
     changes: Changes,
+    /// Frames recorded since the GI method began (see [`Frame::restart_method`]).
     frames_recorded: u64,
     asynchronous: bool,
     part_sync: Option<PartSync>,
@@ -174,12 +175,7 @@ impl Frame {
             raster_lights,
             pending_lights: None,
             pending_vertices: Vec::new(),
-            changes: Changes {
-                lights: true,
-                camera: true,
-                views: true,
-                geometry: true,
-            },
+            changes: Changes::ALL,
             frames_recorded: 0,
             asynchronous,
             part_sync: None,
@@ -245,6 +241,13 @@ impl Frame {
         self.pending_vertices
             .push((offset, bytemuck::cast_slice(&vertices).to_vec()));
         self.changes.geometry = true;
+    }
+
+    /// A GI method new to this frame (built again, or another) records the next frame: it is
+    /// its first (`FrameContext::frame` 0, everything changed).
+    pub fn restart_method(&mut self) {
+        self.frames_recorded = 0;
+        self.changes = Changes::ALL;
     }
 
     /// How this frame submits a method's parts (after resolving `SubmitPlan::Auto`).

@@ -135,6 +135,7 @@ pub fn follow(
             ring.finish()?;
             gpu.wait_idle()?;
             *gi = rebuild(scene)?;
+            frame.restart_method();
             Ok(true)
         }
     }

@@ -21,6 +21,13 @@ const BUILTINS: &[Builtin] = &[
         mtl: include_str!("../../assets/cornell-box.mtl"),
     },
     Builtin {
+        name: "cornell-moving",
+        about: "the Cornell box with its tall block sliding to the red wall and back (a dynamic object, a loop of 120 frames)",
+        scene_file: include_str!("../../assets/scenes/cornell-moving.toml"),
+        obj: include_str!("../../assets/cornell-box.obj"),
+        mtl: include_str!("../../assets/cornell-box.mtl"),
+    },
+    Builtin {
         name: "two-rooms",
         about: "two rooms sealed by a wall, a spot light in one (stored OBJ): light in the other is a leak",
         scene_file: include_str!("../../assets/scenes/two-rooms.toml"),

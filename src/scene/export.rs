@@ -1,7 +1,8 @@
 //! A scene written back out as the files vkgi reads: an OBJ (positions, normals, texture
-//! coordinates where a material is textured), its MTL (`Kd`, `Ke`, `map_Kd`, and `two_sided 1`,
-//! vkgi's one extension of MTL), the albedo textures as PNG, and a scene file (TOML) with the
-//! camera and the point and spot lights. Numbers are written in Rust's shortest round-trip form,
+//! coordinates where a material is textured; each dynamic object as an object `o` of its own,
+//! where its path starts from), its MTL (`Kd`, `Ke`, `map_Kd`, and `two_sided 1`, vkgi's one
+//! extension of MTL), the albedo textures as PNG, and a scene file (TOML) with the camera, the
+//! point and spot lights and the dynamic objects' paths. Numbers are written in Rust's shortest round-trip form,
 //! so reading the files back gives the same floats (texture `v` is flipped, as OBJ counts it
 //! up the image, and `1 - (1 - v)` may differ from `v` in its last bit).
 
@@ -113,7 +114,13 @@ fn obj_text(scene: &Scene, mtl_name: &str, material_names: &[String], textured: 
         env!("CARGO_PKG_VERSION")
     );
     obj.reserve(mesh.positions.len() * 80 + mesh.triangle_count() * 40);
-    for p in &mesh.positions {
+    // Dynamic objects' vertices where their paths start from (offset zero).
+    let mut positions = mesh.positions.clone();
+    for object in &scene.dynamic {
+        let range = object.vertices.start as usize..object.vertices.end as usize;
+        positions[range].copy_from_slice(&object.rest);
+    }
+    for p in &positions {
         let _ = writeln!(obj, "v {} {} {}", p.x, p.y, p.z);
     }
     // A zero normal reads back as zero: the triangle's face normal is used there.
@@ -125,8 +132,26 @@ fn obj_text(scene: &Scene, mtl_name: &str, material_names: &[String], textured: 
             let _ = writeln!(obj, "vt {} {}", t.x, 1.0 - t.y);
         }
     }
-    let mut current = None;
+    // Each triangle's object: a dynamic object's name, or one no dynamic object has.
+    let mut fixed = String::from("static");
+    while scene.dynamic.iter().any(|o| o.name == fixed) {
+        fixed.push('_');
+    }
+    let object_of = |triangle: &[u32; 3]| {
+        scene
+            .dynamic
+            .iter()
+            .find(|o| o.vertices.contains(&triangle[0]))
+            .map_or(fixed.as_str(), |o| o.name.as_str())
+    };
+    let (mut current, mut object) = (None, None);
     for (triangle, &material) in mesh.indices.iter().zip(&mesh.materials) {
+        let named = object_of(triangle);
+        if !scene.dynamic.is_empty() && object != Some(named) {
+            let _ = writeln!(obj, "o {named}");
+            object = Some(named);
+            current = None;
+        }
         if current != Some(material) {
             let _ = writeln!(obj, "usemtl {}", material_names[material as usize]);
             current = Some(material);
@@ -212,6 +237,21 @@ fn scene_file_text(scene: &Scene, obj_name: &str) -> String {
             "flux = {}\ncolor = {}\n",
             light.flux,
             vector(light.color)
+        );
+    }
+    for object in &scene.dynamic {
+        let keys: Vec<String> = object
+            .path
+            .keys()
+            .iter()
+            .map(|(frame, offset)| format!("{{ frame = {frame}, offset = {} }}", vector(*offset)))
+            .collect();
+        let _ = write!(
+            text,
+            "\n[[dynamic]]\nobject = {}\npath = [{}]\nloop = {}\n",
+            toml::Value::String(object.name.clone()),
+            keys.join(", "),
+            object.path.looped()
         );
     }
     text
