@@ -350,3 +350,75 @@ fn reference_and_compare_reject_bad_input() {
         "no such file",
     );
 }
+
+#[test]
+fn a_dynamic_scene_renders_its_last_frame_and_the_reference_poses_any_frame() {
+    let dir = scratch("dynamic");
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    // cornell-moving's tall block is furthest along its path at frame 60.
+    let render = vkgi(&[
+        "render",
+        "--scene",
+        "cornell-moving",
+        "--method",
+        "none",
+        "--frames",
+        "61",
+        "--size",
+        "48x36",
+        "--hdr",
+        &path("render.exr"),
+    ]);
+    assert!(
+        render.status.success(),
+        "{}",
+        String::from_utf8_lossy(&render.stderr)
+    );
+    let reference = |frame: &str, out: &str| {
+        let run = vkgi(&[
+            "reference",
+            "--scene",
+            "cornell-moving",
+            "--bounces",
+            "0",
+            "--spp",
+            "64",
+            "--size",
+            "48x36",
+            "--frame",
+            frame,
+            "--out",
+            &path(out),
+        ]);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        vkgi::imageio::read_hdr(&dir.join(out), false).unwrap()
+    };
+    let rendered = vkgi::imageio::read_hdr(&dir.join("render.exr"), false).unwrap();
+    let error = |frame: &str| {
+        let reference = reference(frame, &format!("frame-{frame}.exr"));
+        vkgi::metrics::compare(&rendered, &reference, None)
+            .unwrap()
+            .rel_mse
+    };
+    let (at_60, at_0) = (error("60"), error("0"));
+    eprintln!(
+        "direct light of render --frames 61 against the path tracer's frame 60: relMSE {at_60:.4}, frame 0: {at_0:.4}"
+    );
+    assert!(at_60 < 0.25 * at_0, "{at_60} against {at_0}");
+    assert_bad_input(
+        &vkgi(&[
+            "reference",
+            "--scene",
+            "cornell-moving",
+            "--frame",
+            "-1",
+            "--out",
+            &path("x.exr"),
+        ]),
+        "--frame",
+    );
+}

@@ -296,6 +296,49 @@ fn the_arrow_keys_move_an_emitter_and_the_method_is_rebuilt_when_they_let_go() {
 }
 
 #[test]
+fn dynamic_objects_follow_their_paths_and_the_arrow_keys_and_methods_follow_them() {
+    // cornell-moving's block moves every frame of its path: frames 1-4 write its vertices, and
+    // ILPV's two lattices write their rebuilt cells in the same frames.
+    let dir = scratch("dynamic-path");
+    let report = view_with_keys(
+        &dir,
+        &["--scene", "cornell-moving", "--size", "32x24"],
+        5,
+        "f1",
+    );
+    assert_eq!(pass_runs(&report, "update vertices"), 4);
+    assert_eq!(pass_runs(&report, "update geometry lattice"), 4);
+    // Radiosity cannot follow: it is made again for every frame the block moved.
+    let dir = scratch("dynamic-radiosity");
+    let args = [
+        "--scene",
+        "cornell-moving",
+        "--size",
+        "32x24",
+        "--method",
+        "radiosity",
+    ];
+    let report = view_with_keys(&dir, &args, 3, "f1");
+    assert_eq!(pass_runs(&report, "update vertices"), 2);
+    // A box that stays put unless the arrows move it: L chooses it (after the scene's light),
+    // two frames of the right arrow move it.
+    let dir = scratch("dynamic-keys");
+    let scene = dir.join("still.toml");
+    let cornell = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/cornell-box.obj");
+    std::fs::write(
+        &scene,
+        format!(
+            "mesh = {:?}\nscale = 0.001\n[[light]]\ntype = \"point\"\nposition = [278, 400, 280]\nflux = 3\n[[dynamic]]\nbox = [[100, 200, 100], [200, 300, 200]]\npath = [{{ frame = 0, offset = [0, 0, 0] }}]\n",
+            cornell.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let args = ["--scene", scene.to_str().unwrap(), "--size", "32x24"];
+    let report = view_with_keys(&dir, &args, 4, "l,right,right,f1");
+    assert_eq!(pass_runs(&report, "update vertices"), 2);
+}
+
+#[test]
 fn radiosity_id_and_pd_follow_the_camera_and_the_mode_keys() {
     let dir = scratch("radiosity-modes");
     // pd: the camera's importance and the simulated view are marked on frame 1 and again when

@@ -252,6 +252,10 @@ pub struct ReferenceArgs {
     /// Exposure in stops for the PNG.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub exposure: f32,
+    /// Pose the scene's dynamic objects as frame K of their paths (`render --frames N` shows
+    /// frame N-1).
+    #[arg(long, value_name = "K", default_value_t = 0, allow_negative_numbers = true)]
+    pub frame: u64,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

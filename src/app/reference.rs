@@ -17,7 +17,14 @@ pub fn run(args: &ReferenceArgs) -> anyhow::Result<()> {
     if let Some(png) = &args.png {
         imageio::check_image_output(png, imageio::ImageKind::Ldr)?;
     }
-    let scene = Scene::load(&args.scene)?;
+    let mut scene = Scene::load(&args.scene)?;
+    if scene.dynamic.is_empty() && args.frame > 0 {
+        log::warn!(
+            "--frame {} poses nothing: the scene has no dynamic objects",
+            args.frame
+        );
+    }
+    scene.pose(args.frame);
     if args.spp == 0 {
         crate::bad_input!("--spp must be at least 1");
     }
