@@ -96,10 +96,10 @@ fn difference(a: &Scene, b: &Scene) -> Option<String> {
     if a.lights != b.lights {
         return Some(format!("lights {:?} read back as {:?}", a.lights, b.lights));
     }
-    let paths = |s: &Scene| -> Vec<(String, Vec<(u64, Vec3)>, bool)> {
+    let paths = |s: &Scene| -> Vec<(String, vkgi::scene::dynamic::Path)> {
         s.dynamic
             .iter()
-            .map(|o| (o.name.clone(), o.path.keys().to_vec(), o.path.looped()))
+            .map(|o| (o.name.clone(), o.path.clone()))
             .collect()
     };
     if paths(a) != paths(b) {
