@@ -70,7 +70,7 @@ fn geometry_lattice_follow(c: &mut Criterion) {
                     geometry::touched_cells(&lattice, lobe, &regions)
                         .iter()
                         .map(|t| geometry::build_region(&scene.mesh, &lattice, &transfer, lobe, t))
-                        .count()
+                        .collect::<Vec<_>>()
                 })
             });
             c.bench_function(

@@ -254,7 +254,12 @@ pub struct ReferenceArgs {
     pub exposure: f32,
     /// Pose the scene's dynamic objects as frame K of their paths (`render --frames N` shows
     /// frame N-1).
-    #[arg(long, value_name = "K", default_value_t = 0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "K",
+        default_value_t = 0,
+        allow_negative_numbers = true
+    )]
     pub frame: u64,
     #[command(flatten)]
     pub gpu: GpuArgs,
