@@ -5,7 +5,6 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use glam::Vec3;
 use vkgi::reference::{Bounces, PathTracer, ReferenceSettings};
 use vkgi::scene::Scene;
 use vkgi::scene::builtin;
