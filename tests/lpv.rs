@@ -275,6 +275,98 @@ fn one_lobe(lpv: &Lpv) -> Vec<DVec4> {
     cells
 }
 
+/// An IEEE half-precision float's value.
+fn half_to_f32(bits: u16) -> f32 {
+    let sign = if bits >> 15 == 1 { -1.0 } else { 1.0 };
+    let exponent = i32::from((bits >> 10) & 0x1f);
+    let mantissa = f32::from(bits & 0x3ff);
+    match exponent {
+        0 => sign * mantissa * 2f32.powi(-24),
+        31 => sign * f32::INFINITY,
+        e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+/// The VPLs of `lpv`'s RSM as the GPU rendered it, each with the light of its layer.
+fn vpls_of(gpu: &vkgi::gpu::Gpu, scene: &Scene, lpv: &Lpv) -> Vec<cpu::Vpl> {
+    let rsm = lpv.rsm().unwrap();
+    let floats = |bytes: Vec<u8>| -> Vec<f32> { bytemuck::cast_slice(&bytes).to_vec() };
+    let position = floats(gpu.read_image(&rsm.position).unwrap());
+    let flux = floats(gpu.read_image(&rsm.flux).unwrap());
+    let normal_bytes = gpu.read_image(&rsm.normal).unwrap();
+    let normal: Vec<f32> = bytemuck::cast_slice::<u8, u16>(&normal_bytes)
+        .iter()
+        .map(|&h| half_to_f32(h))
+        .collect();
+    let (_, views) = vkgi::scene::gpu::shadow_views(scene, &scene.raster_lights(), 1024);
+    let texels = (rsm.size * rsm.size) as usize;
+    (0..texels * rsm.layers as usize)
+        .filter(|&i| position[4 * i + 3] != 0.0)
+        .map(|i| {
+            let v = |data: &[f32]| {
+                DVec3::new(
+                    data[4 * i].into(),
+                    data[4 * i + 1].into(),
+                    data[4 * i + 2].into(),
+                )
+            };
+            let origin = views[i / texels].origin;
+            cpu::Vpl {
+                position: v(&position),
+                normal: v(&normal).normalize(),
+                flux: v(&flux),
+                light: DVec3::new(origin[0].into(), origin[1].into(), origin[2].into()),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_light() {
+    use vkgi::gi::lpv::InjectToward;
+    let gpu = common::gpu();
+    // The spot-lit Cornell box, and a point light sealed in a cube (VPLs at its edges are where
+    // the two ways differ most).
+    let light = Vec3::new(0.16, 0.35, 0.14);
+    let cube = (light - 0.1, light + 0.1);
+    let scenes = [
+        Scene::load("cornell").unwrap(),
+        with_point_light(&Scene::load("cornell").unwrap(), light, 10.0, Some(cube)),
+    ];
+    for scene in &scenes {
+        for (toward, offset) in [(InjectToward::Normal, 0.5), (InjectToward::Light, 1.0)] {
+            // One frame of ILPV at λ 0 with one step: the lookup's lattice is the injection.
+            let settings = LpvSettings {
+                lattice: 16,
+                rsm: 32,
+                iterations: 1,
+                incremental: 0.0,
+                inject_offset: offset,
+                inject_toward: toward,
+                ..LpvSettings::default()
+            };
+            let mut lpv = Lpv::new(&Setup::new(&gpu, scene), settings).unwrap();
+            let mut frame =
+                vkgi::render::Frame::new(&gpu, scene, common::indirect_only(16, 12)).unwrap();
+            drop(vkgi::render::runner::run_frames(&gpu, &mut frame, Some(&mut lpv), 0, 1).unwrap());
+            let injected = lpv.read_result(&gpu).unwrap();
+            let vpls = vpls_of(&gpu, scene, &lpv);
+            let expected = cpu::inject(&lpv.lattice, &vpls, f64::from(offset), toward);
+            let error = (0..3)
+                .map(|c| relative_error(&injected[c], &expected[c]))
+                .fold(0.0, f64::max);
+            eprintln!(
+                "{} {toward:?}: {} VPLs, worst relative difference {error:.2e}",
+                scene.lights.len(),
+                vpls.len()
+            );
+            assert!(vpls.len() > 100);
+            assert!(error < 1e-4, "{toward:?}: {error}");
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
 #[test]
 fn ilpv_steps_conserve_the_energy_of_one_injected_cell() {
     let gpu = common::gpu();
@@ -678,7 +770,8 @@ fn falls_with_refinement(leaks: &[(u32, f64)]) -> bool {
 }
 
 #[test]
-fn a_light_sealed_in_a_box_leaks_under_two_percent_with_visibility_blocking() {
+fn a_light_sealed_in_a_box_leaks_under_two_percent_with_visibility_blocking_and_none_injected_toward_it()
+ {
     let gpu = common::gpu();
     // A 100 mm cube in the Cornell box (559 mm across: 24 cells of 23 mm put 4.3 across it)
     // with a point light at its centre; open, the same light hangs there without the cube.
@@ -700,16 +793,37 @@ fn a_light_sealed_in_a_box_leaks_under_two_percent_with_visibility_blocking() {
         ..LpvSettings::default()
     };
     let watertight = leaks(&sealed, &[32, 24]);
+    // VPLs moved toward their light instead land inside the cube wherever its edges fall.
+    let toward = LpvSettings {
+        inject_toward: vkgi::gi::lpv::InjectToward::Light,
+        ..sealed.clone()
+    };
+    let toward_leaks = leaks(&toward, &[24]);
     // The default leaks through the partly covered cells at the cube's edges and in the first,
     // unblocked step, 8% still at 40 cells (7.2 across the cube).
     let default = leaks(&LpvSettings::default(), &[24, 16, 10]);
     eprintln!(
-        "light sealed in a 100 mm cube, leak over the open light's indirect light per lattice: visibility {watertight:.4?}, default {default:.4?}"
+        "light sealed in a 100 mm cube, leak over the open light's indirect light per lattice: visibility {watertight:.4?}, toward the light {toward_leaks:.5?}, default {default:.4?}"
     );
     // 32 cells put 5.7 across the cube.
     assert!(watertight[0].1 <= 0.02, "{watertight:?}");
     assert!(falls_with_refinement(&watertight), "{watertight:?}");
     assert!(falls_with_refinement(&default), "{default:?}");
+    assert!(toward_leaks[0].1 <= 1e-3, "{toward_leaks:?}");
+    // Along the normal, the leak depends on where the cube's edges fall in the cells (1.3% to
+    // 9% at 5.7 cells across for these three places, docs/lpv.md); toward the light it is gone
+    // at each. Each place keeps its neighbours more than a cell from the cube: closer, their
+    // lookups interpolate cells inside it.
+    for centre in [
+        Vec3::new(0.16, 0.35, 0.14),
+        Vec3::new(0.40, 0.20, 0.12),
+        Vec3::new(0.28, 0.40, 0.10),
+    ] {
+        let cube = (centre - 0.08, centre + 0.08);
+        let leak = sealed_light_leaks(&gpu, &cornell, centre, cube, centre, &[20], &toward);
+        eprintln!("a 160 mm cube at {centre}, toward the light: {leak:.5?}");
+        assert!(leak[0].1 <= 1e-3, "{centre}: {leak:?}");
+    }
     // The 0.5 m gap between the two rooms' walls (8.5 m across: 68 cells of 0.125 m put 4 across
     // it), closed around a light by a box that fills it; open, the light hangs in room A. The
     // default leaks 10% here (docs/lpv.md).
@@ -858,7 +972,7 @@ fn a_cube_moved_onto_a_light_seals_it_and_moved_off_frees_it_within_one_over_one
     let gpu = common::gpu();
     // A 0.16 m cube around a point light above the short block (20 cells of 28 mm put 5.7
     // across it), and the cube's place away from the light, above the tall block. Visibility
-    // blocking, leak-tight settings: placed around the light, the cube leaks 1.3%.
+    // blocking, leak-tight settings: placed around the light, the cube leaks nothing.
     let light = Vec3::new(0.16, 0.35, 0.14);
     let away = Vec3::new(0.24, 0.09, 0.26);
     let (side, size) = (0.16, (32, 24));
@@ -874,6 +988,7 @@ fn a_cube_moved_onto_a_light_seals_it_and_moved_off_frees_it_within_one_over_one
             blocking_lobe: BlockingLobe::Visibility,
             first_step_unblocked: false,
             inject_offset: 1.0,
+            inject_toward: vkgi::gi::lpv::InjectToward::Light,
             ..LpvSettings::default()
         };
         let settle = vkgi::gi::lpv::entry::settle_frames(f64::from(lambda));
@@ -914,7 +1029,7 @@ fn a_cube_moved_onto_a_light_seals_it_and_moved_off_frees_it_within_one_over_one
             "λ {lambda}: {leak} against {placed_leak}"
         );
         assert!(1.0 - freed <= kept, "λ {lambda}: {freed}");
-        assert!(placed_leak <= 0.02, "{placed_leak}");
+        assert!(placed_leak <= 1e-3, "{placed_leak}");
         if lambda >= 0.9 {
             assert!(leak <= 0.02, "λ {lambda}: {leak}");
         }

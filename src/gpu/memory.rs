@@ -498,11 +498,12 @@ impl Gpu {
         Ok(staging.mapped()?.to_vec())
     }
 
-    /// The texels of layer 0 of a 2D colour image, tightly packed.
+    /// The texels of every layer of a colour image, tightly packed, layer after layer.
     pub fn read_image(&self, image: &Image) -> GpuResult<Vec<u8>> {
         let bytes = u64::from(image.width())
             * u64::from(image.height())
             * u64::from(image.extent.depth)
+            * u64::from(image.layers)
             * format_bytes(image.format)?;
         let staging = self.create_buffer(&BufferDesc {
             name: "image readback",

@@ -952,7 +952,7 @@ impl<'a> Recorder<'a> {
         self.end_scope(scope);
     }
 
-    /// Copy layer 0 of an image into a buffer, tightly packed.
+    /// Copy every layer of an image into a buffer, tightly packed, layer after layer.
     pub fn copy_image_to_buffer(&mut self, name: &'static str, image: &Image, buffer: &Buffer) {
         let scope = self.begin_scope(name);
         self.sync(&[
@@ -967,13 +967,13 @@ impl<'a> Recorder<'a> {
                 aspect_mask: image.aspect,
                 mip_level: 0,
                 base_array_layer: 0,
-                layer_count: 1,
+                layer_count: image.layers,
             },
             image_offset: vk::Offset3D { x: 0, y: 0, z: 0 },
             image_extent: image.extent,
         };
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL after `sync`; the buffer is large enough
-        // (callers size it from the image).
+        // for every layer (callers size it from the image).
         unsafe {
             self.gpu.shared.device.cmd_copy_image_to_buffer(
                 self.cmd,

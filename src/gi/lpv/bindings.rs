@@ -9,6 +9,7 @@ crate::shared_constants! {
     INJECT_LATTICE_R: u32 = 3;
     INJECT_LATTICE_G: u32 = 4;
     INJECT_LATTICE_B: u32 = 5;
+    INJECT_VIEWS: u32 = 6;
 
     // ---- ILPV merge and clamp compensation ----
     MERGE_CURRENT: u32 = 0;

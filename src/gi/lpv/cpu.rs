@@ -6,6 +6,7 @@ use glam::{DVec3, DVec4, IVec3};
 
 use super::geometry::GeometryLattice;
 use super::lattice::Lattice;
+use super::technique::InjectToward;
 use crate::gi::shared::sh;
 use super::transfer::{FaceScheme, TransferVectors};
 
@@ -16,6 +17,8 @@ pub struct Vpl {
     pub normal: DVec3,
     /// Reflected flux per channel (W).
     pub flux: DVec3,
+    /// The position of the light it reflects.
+    pub light: DVec3,
 }
 
 /// Lattice-normalised medium coefficients and whether blocking applies this step.
@@ -26,13 +29,25 @@ pub struct StepParams {
     pub use_blocking: bool,
 }
 
-/// Inject VPLs as clamped-cosine intensity lobes (Φ/π SH_cos(n)) into the cell half a cell
-/// along their normal; returns the R, G, B lattices.
-pub fn inject(lattice: &Lattice, vpls: &[Vpl]) -> [Vec<DVec4>; 3] {
+/// Inject VPLs as clamped-cosine intensity lobes (Φ/π SH_cos(n)) into the cell `offset` cells
+/// along their normal, or toward their light (at most half way); returns the R, G, B lattices.
+pub fn inject(
+    lattice: &Lattice,
+    vpls: &[Vpl],
+    offset: f64,
+    toward: InjectToward,
+) -> [Vec<DVec4>; 3] {
     let mut out = [(); 3].map(|_| vec![DVec4::ZERO; lattice.cell_count()]);
-    let d = f64::from(lattice.cell_size);
+    let shift = offset * f64::from(lattice.cell_size);
     for v in vpls {
-        let p = v.position + v.normal * (0.5 * d);
+        let p = match toward {
+            InjectToward::Normal => v.position + v.normal * shift,
+            InjectToward::Light => {
+                let to_light = v.light - v.position;
+                let distance = to_light.length();
+                v.position + to_light * (shift.min(0.5 * distance) / distance.max(1e-30))
+            }
+        };
         let Some(cell) = lattice.cell_of(p.as_vec3()) else {
             continue;
         };

@@ -2,7 +2,9 @@
 //! sweeps), how many frames they need to settle, and their constructors.
 
 use super::geometry::BlockingLobe;
-use super::technique::{self as t, Extinction, FarLattice, IlpvLookup, Lpv, LpvSettings, Scheme};
+use super::technique::{
+    self as t, Extinction, FarLattice, IlpvLookup, InjectToward, Lpv, LpvSettings, Scheme,
+};
 use crate::error::InputError;
 use crate::gi::GiMethod;
 use crate::gi::registry::{MethodEntry, Setup};
@@ -104,6 +106,12 @@ const INJECT_OFFSET: Setting = Setting::new(
     "0.5",
     "Cells VPLs move along their normal before injection (the thesis: 0.5)",
 );
+const INJECT_TOWARD: Setting = Setting::new(
+    "inject-toward",
+    Kind::Choice(&["normal", "light"]),
+    "normal",
+    "Which way VPLs move before injection: along their normal (the thesis) or toward their light, at most half way (no VPL of a light sealed in a box lands in a cell centred outside it)",
+);
 const LOOKUP_OFFSET: Setting = Setting::new(
     "lookup-offset",
     Kind::Float {
@@ -153,6 +161,7 @@ const ILPV_SETTINGS: &[Setting] = &[
     NAIVE,
     NO_CLAMP_COMPENSATION,
     INJECT_OFFSET,
+    INJECT_TOWARD,
     LOOKUP_OFFSET,
     ILPV_LOOKUP,
     FAR_LATTICE,
@@ -168,6 +177,7 @@ const LPV_SETTINGS: &[Setting] = &[
     BLOCK_FIRST_STEP,
     NAIVE,
     INJECT_OFFSET,
+    INJECT_TOWARD,
     LOOKUP_OFFSET,
 ];
 
@@ -267,6 +277,10 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         clamp_compensation: !flag("no-clamp-compensation")?,
         ilpv_lookup,
         inject_offset: float_or("inject-offset", defaults.inject_offset)?,
+        inject_toward: match s.has("inject-toward").then(|| s.text("inject-toward")).transpose()? {
+            Some("light") => InjectToward::Light,
+            _ => InjectToward::Normal,
+        },
         lookup_offset: float_or("lookup-offset", defaults.lookup_offset)?,
         far_lattice: match s.has("far-lattice").then(|| s.text("far-lattice")).transpose()? {
             Some(text) => far_lattice(text)?,

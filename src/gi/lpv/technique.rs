@@ -121,8 +121,10 @@ pub struct LpvSettings {
     /// Rescale cells so each 26-neighbour step conserves energy despite the clamp.
     pub clamp_compensation: bool,
     pub ilpv_lookup: IlpvLookup,
-    /// VPLs move this many cells along their normal before injection (the thesis: 0.5).
+    /// VPLs move this many cells before injection (the thesis: 0.5, along the normal).
     pub inject_offset: f32,
+    /// Which way VPLs move before injection.
+    pub inject_toward: InjectToward,
     /// The lookup reads this many cells along the surface normal (the thesis: 0.5).
     pub lookup_offset: f32,
     /// ILPV in two scales: the coarse far-field lattice (see [`super::two_scale`]).
@@ -132,6 +134,18 @@ pub struct LpvSettings {
     /// Two scales: the share of its own injection the far field's lookup keeps (the rest is
     /// the near field's).
     pub far_injection: f32,
+}
+
+/// Which way a VPL moves before injection.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum InjectToward {
+    /// Along its normal (the thesis).
+    Normal,
+    /// Toward the light it reflects, at most half way: that segment is free of geometry (the
+    /// light reached the VPL along it), so the VPL lands on its lit side even at the edge of a
+    /// box around the light, where moving along one face's normal leaves it in a cell centred
+    /// outside the next face.
+    Light,
 }
 
 /// The far-field lattice of two-scale ILPV.
@@ -163,6 +177,7 @@ impl Default for LpvSettings {
             clamp_compensation: true,
             ilpv_lookup: IlpvLookup::Accumulated,
             inject_offset: DEFAULT_INJECT_OFFSET,
+            inject_toward: InjectToward::Normal,
             lookup_offset: DEFAULT_LOOKUP_OFFSET,
             far_lattice: FarLattice::Auto,
             near_steps: DEFAULT_NEAR_STEPS,
@@ -284,6 +299,7 @@ crate::push_constants! {
         dims: [i32; 4],
         layers: u32,
         offset: f32,
+        toward_light: u32,
     }
 }
 
@@ -669,10 +685,11 @@ impl Lpv {
     fn record_inject(
         &self,
         rec: &mut Recorder,
+        ctx: &FrameContext,
         rsm: &Rsm,
-        target: usize,
         views: u32,
     ) -> GpuResult<()> {
+        let target = self.current;
         let [r, g, b] = [0, 1, 2].map(|c| &self.lattices[c][target]);
         for lattice in [r, g, b] {
             rec.fill_buffer("clear lattice", lattice, 0);
@@ -685,6 +702,7 @@ impl Lpv {
             dims,
             layers: views,
             offset: self.settings.inject_offset,
+            toward_light: u32::from(self.settings.inject_toward == InjectToward::Light),
         };
         rec.compute(&ComputePass {
             name: "inject",
@@ -696,6 +714,7 @@ impl Lpv {
                 Binding::write(ids::INJECT_LATTICE_R, r),
                 Binding::write(ids::INJECT_LATTICE_G, g),
                 Binding::write(ids::INJECT_LATTICE_B, b),
+                Binding::read(ids::INJECT_VIEWS, &ctx.scene.shadow_views),
             ],
             push: &push,
             threads: [self.settings.rsm, self.settings.rsm, views],
@@ -966,7 +985,7 @@ impl Lpv {
         rsm: &Rsm,
     ) -> GpuResult<()> {
         let views = self.begin_frame(rec, ctx);
-        self.record_inject(rec, rsm, self.current, views)
+        self.record_inject(rec, ctx, rsm, views)
     }
 
     /// Rebuild the geometry lattice's cells that geometry moving in the world boxes `regions`
@@ -1024,7 +1043,7 @@ impl Lpv {
     }
 
     /// The RSM this lattice renders, if it renders one.
-    pub(super) fn rsm(&self) -> Option<&Rsm> {
+    pub fn rsm(&self) -> Option<&Rsm> {
         self.rsm.as_ref()
     }
 }
@@ -1052,7 +1071,7 @@ impl GiMethod for Lpv {
         if views > 0 {
             rsm.record(rec, ctx)?;
         }
-        self.record_inject(rec, rsm, self.current, views)
+        self.record_inject(rec, ctx, rsm, views)
     }
 
     fn parts(&self) -> &'static [&'static str] {

@@ -71,7 +71,10 @@ impl Rsm {
                     format,
                     size,
                     size,
-                    vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
+                    // Transfer source: tests read the VPLs back.
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT
+                        | vk::ImageUsageFlags::STORAGE
+                        | vk::ImageUsageFlags::TRANSFER_SRC,
                 )
             })
         };
