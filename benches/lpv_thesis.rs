@@ -30,7 +30,6 @@ use vkgi::gpu::{Gpu, GpuOptions};
 use vkgi::imageio::HdrImage;
 use vkgi::metrics;
 use vkgi::metrics::plot::{Series, write_plot};
-use vkgi::reference::{Bounces, PathTracer, ReferenceSettings};
 use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 
@@ -55,7 +54,7 @@ fn main() -> anyhow::Result<()> {
     let gpu = Gpu::new(&GpuOptions::default())?;
     let scene = Scene::load("cornell")?;
     println!("device: {}\n", gpu.info.name);
-    let truth = reference(&gpu, &scene)?;
+    let truth = common::indirect_reference(&gpu, &scene, SIZE, SPP)?;
     let direct = render(&gpu, &scene, None, 1)?;
     for lookup in [IlpvLookup::Final, IlpvLookup::Accumulated] {
         let mut runs = Vec::new();
@@ -84,20 +83,6 @@ fn main() -> anyhow::Result<()> {
         report(&out_dir, lookup, &runs, &truth)?;
     }
     Ok(())
-}
-
-/// The path tracer's indirect light with one indirect bounce, the part LPV models.
-fn reference(gpu: &Gpu, scene: &Scene) -> anyhow::Result<HdrImage> {
-    let settings = ReferenceSettings {
-        width: SIZE.0,
-        height: SIZE.1,
-        spp: SPP,
-        bounces: Bounces::Limited(1),
-        seed: 1,
-        strategy: Default::default(),
-    };
-    let mut tracer = PathTracer::new(gpu, scene, SIZE.0, SIZE.1)?;
-    Ok(tracer.render(gpu, &settings, |_, _| {})?.indirect)
 }
 
 /// The HDR frame after `frames` frames of `method` (direct light alone without one).
