@@ -223,6 +223,29 @@ fn indirect_only_images_hold_no_direct_light() {
     common::assert_no_validation_errors(&gpu);
 }
 
+/// After moving `what` and `frames` frames, the image is within 5% of the change the move made
+/// (`before` the move, `after` the frames, and `fresh`: the moved scene rendered anew).
+fn assert_followed(
+    entry: &MethodEntry,
+    what: &str,
+    frames: impl std::fmt::Display,
+    images: [&[[f32; 3]]; 3],
+) {
+    let [before, after, fresh] = images;
+    let change = mean_abs_difference(before, fresh);
+    let lag = mean_abs_difference(after, fresh);
+    assert!(
+        change > 0.0,
+        "{}: moving {what} changed nothing",
+        entry.name
+    );
+    assert!(
+        lag <= 0.05 * change,
+        "{}: {frames} frames after moving {what}, {lag:e} from the settled image (the move changed it by {change:e})",
+        entry.name
+    );
+}
+
 #[test]
 fn a_moved_light_is_followed_within_the_declared_settle_frames() {
     let gpu = common::gpu();
@@ -240,18 +263,7 @@ fn a_moved_light_is_followed_within_the_declared_settle_frames() {
         frame.set_lights(&moved);
         run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, frames).unwrap();
         let after = frame.read_hdr(&gpu).unwrap();
-        let change = mean_abs_difference(&before, &fresh);
-        let lag = mean_abs_difference(&after, &fresh);
-        assert!(
-            change > 0.0,
-            "{}: moving the light changed nothing",
-            entry.name
-        );
-        assert!(
-            lag <= 0.05 * change,
-            "{}: {frames} frames after the move, {lag:e} from the settled image (the move changed it by {change:e})",
-            entry.name
-        );
+        assert_followed(entry, "the light", frames, [&before, &after, &fresh]);
     }
     common::assert_no_validation_errors(&gpu);
 }
@@ -299,18 +311,7 @@ fn a_moved_object_is_followed_within_the_declared_settle_frames() {
             ring.finish().unwrap();
         }
         let after = frame.read_hdr(&gpu).unwrap();
-        let change = mean_abs_difference(&before, &fresh);
-        let lag = mean_abs_difference(&after, &fresh);
-        assert!(
-            change > 0.0,
-            "{}: moving the block changed nothing",
-            entry.name
-        );
-        assert!(
-            lag <= 0.05 * change,
-            "{}: {frames} frames after the move, {lag:e} from the settled image (the move changed it by {change:e})",
-            entry.name
-        );
+        assert_followed(entry, "the block", frames, [&before, &after, &fresh]);
     }
     common::assert_no_validation_errors(&gpu);
 }
