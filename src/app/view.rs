@@ -18,16 +18,15 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
 
+use crate::gi::GiMethod;
 use crate::gi::registry::{self, MethodEntry};
 use crate::gi::settings::{Setting, Settings};
-use crate::gi::{Follow, GiMethod};
 use crate::gpu::frames::{FrameRing, SemaphoreWait};
 use crate::gpu::{Gpu, GpuOptions, Stage};
 use crate::imageio::HdrImage;
-use crate::render::runner::FRAMES_IN_FLIGHT;
+use crate::render::runner::{self, FRAMES_IN_FLIGHT};
 use crate::render::{Epilogue, Eye, Frame};
 use crate::scene::Scene;
-use crate::scene::dynamic::Moved;
 use crate::scene::movable::Movable;
 use crate::view::cave::Cave;
 use crate::view::fly::FlyCamera;
@@ -581,24 +580,31 @@ impl Running {
     }
 
     /// Pose the dynamic objects for the frame about to be drawn (their paths, and the arrow
-    /// keys' nudges): the frame takes their vertices, and the GI method follows them or is made
-    /// again.
+    /// keys' nudges) and let the frame and the GI method follow them (`runner::follow`: the
+    /// method is made again where it cannot follow).
     fn pose_dynamic(&mut self) -> anyhow::Result<()> {
         let moved = self.scene.pose(self.frames_shown);
-        if moved.is_empty() {
-            return Ok(());
-        }
-        for m in &moved {
-            self.frame.set_vertices(&self.scene, m.vertices.clone());
-        }
-        let regions = Moved::regions(&moved);
-        let follow = match self.technique.as_mut() {
-            Some(t) => t.geometry_moved(&self.gpu, &self.scene, &regions)?,
-            None => Follow::Followed,
+        let (entry, index) = (self.method, self.method_index());
+        let (gpu, settings) = (&self.gpu, &self.settings);
+        let rebuild = |scene: &Scene| match (entry, index) {
+            (Some(entry), Some(index)) => {
+                let chosen = method::Chosen {
+                    entry,
+                    settings: settings[index].clone(),
+                };
+                method::build(gpu, scene, &chosen, None)
+            }
+            _ => anyhow::bail!("no GI method to build"),
         };
-        if follow == Follow::Rebuild {
-            self.rebuild_technique()?;
-        }
+        runner::follow(
+            gpu,
+            &mut self.ring,
+            &mut self.frame,
+            &self.scene,
+            &moved,
+            self.technique.as_mut(),
+            &rebuild,
+        )?;
         Ok(())
     }
 
