@@ -204,4 +204,5 @@ methods! {
     lpv,
     lightwave,
     radiosity,
+    irradiance_cache,
 }

@@ -268,6 +268,17 @@ impl Gpu {
         self.validation.is_some()
     }
 
+    /// Whether optimally tiled images of `format` have every one of `features`.
+    pub fn supports_format(&self, format: vk::Format, features: vk::FormatFeatureFlags) -> bool {
+        // SAFETY: a query on the live physical device the instance enumerated.
+        let properties = unsafe {
+            self.shared
+                .instance
+                .get_physical_device_format_properties(self.shared.physical, format)
+        };
+        properties.optimal_tiling_features.contains(features)
+    }
+
     /// Wait until the device has finished all submitted work (end of a run, before teardown).
     pub fn wait_idle(&self) -> GpuResult<()> {
         // SAFETY: no queue is being submitted to concurrently; the renderer is single-threaded.

@@ -25,6 +25,8 @@ pub enum Access {
     ComputeSampled,
     /// Storage-buffer read in the vertex or fragment stage.
     GraphicsRead,
+    /// Sampled read (texture) in the vertex or fragment stage.
+    GraphicsSampled,
     ColorAttachment,
     DepthAttachment,
     TransferRead,
@@ -51,6 +53,11 @@ impl Access {
                 S::VERTEX_SHADER | S::FRAGMENT_SHADER,
                 A::SHADER_STORAGE_READ,
                 L::GENERAL,
+            ),
+            Access::GraphicsSampled => (
+                S::VERTEX_SHADER | S::FRAGMENT_SHADER,
+                A::SHADER_SAMPLED_READ,
+                L::SHADER_READ_ONLY_OPTIMAL,
             ),
             Access::ColorAttachment => (
                 S::COLOR_ATTACHMENT_OUTPUT,
@@ -242,7 +249,8 @@ pub struct ComputePass<'p> {
     pub threads: [u32; 3],
 }
 
-/// A draw of `vertex_count` pulled vertices into colour and depth attachments, cleared first.
+/// A draw of `vertex_count` pulled vertices into colour and depth attachments, cleared first
+/// unless `keep_contents` says to draw over what they hold.
 pub struct RasterPass<'p> {
     /// The pass, without part, step or layer (the recorder's context adds those).
     pub name: &'static str,
@@ -254,6 +262,8 @@ pub struct RasterPass<'p> {
     /// Depth attachment and the layer rendered into.
     pub depth: Option<(&'p Image, u32)>,
     pub vertex_count: u32,
+    /// Keep the attachments' contents (the clear values are then unused).
+    pub keep_contents: bool,
 }
 
 /// The view of one layer of `image` (the whole image if it has no per-layer views).
@@ -530,10 +540,18 @@ impl<'a> Recorder<'a> {
         bindings: &'r [Binding<'r>],
         graphics: bool,
     ) -> Vec<(Resource<'r>, Access)> {
-        let (read, write) = if graphics {
-            (Access::GraphicsRead, Access::GraphicsRead)
+        let (read, write, sampled) = if graphics {
+            (
+                Access::GraphicsRead,
+                Access::GraphicsRead,
+                Access::GraphicsSampled,
+            )
         } else {
-            (Access::ComputeRead, Access::ComputeWrite)
+            (
+                Access::ComputeRead,
+                Access::ComputeWrite,
+                Access::ComputeSampled,
+            )
         };
         bindings
             .iter()
@@ -545,9 +563,7 @@ impl<'a> Recorder<'a> {
                 Binding::StorageImage {
                     image, write: w, ..
                 } => (Resource::Image(image), if *w { write } else { read }),
-                Binding::SampledImage { image, .. } => {
-                    (Resource::Image(image), Access::ComputeSampled)
-                }
+                Binding::SampledImage { image, .. } => (Resource::Image(image), sampled),
             })
             .collect()
     }
@@ -690,6 +706,11 @@ impl<'a> Recorder<'a> {
         }
         self.sync(&accesses);
 
+        let load_op = if pass.keep_contents {
+            vk::AttachmentLoadOp::LOAD
+        } else {
+            vk::AttachmentLoadOp::CLEAR
+        };
         let color_attachments: Vec<vk::RenderingAttachmentInfo> = pass
             .color
             .iter()
@@ -697,7 +718,7 @@ impl<'a> Recorder<'a> {
                 vk::RenderingAttachmentInfo::default()
                     .image_view(layer_view(image, *layer))
                     .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .load_op(load_op)
                     .store_op(vk::AttachmentStoreOp::STORE)
                     .clear_value(vk::ClearValue {
                         color: vk::ClearColorValue { float32: *clear },
@@ -708,7 +729,7 @@ impl<'a> Recorder<'a> {
             vk::RenderingAttachmentInfo::default()
                 .image_view(layer_view(image, layer))
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .load_op(load_op)
                 .store_op(vk::AttachmentStoreOp::STORE)
                 .clear_value(vk::ClearValue {
                     depth_stencil: vk::ClearDepthStencilValue {

@@ -82,6 +82,8 @@ pub struct RasterPipelineDesc<'a> {
     pub depth_format: Option<vk::Format>,
     /// Constant and slope-scaled depth bias (for shadow maps).
     pub depth_bias: Option<(f32, f32)>,
+    /// Add the fragments' outputs to the attachments (one plus one) instead of replacing them.
+    pub additive_blend: bool,
 }
 
 fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
@@ -346,6 +348,13 @@ impl RasterPipeline {
             .map(|_| {
                 vk::PipelineColorBlendAttachmentState::default()
                     .color_write_mask(vk::ColorComponentFlags::RGBA)
+                    .blend_enable(desc.additive_blend)
+                    .src_color_blend_factor(vk::BlendFactor::ONE)
+                    .dst_color_blend_factor(vk::BlendFactor::ONE)
+                    .color_blend_op(vk::BlendOp::ADD)
+                    .src_alpha_blend_factor(vk::BlendFactor::ONE)
+                    .dst_alpha_blend_factor(vk::BlendFactor::ONE)
+                    .alpha_blend_op(vk::BlendOp::ADD)
             })
             .collect();
         let blend =

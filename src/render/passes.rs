@@ -61,6 +61,7 @@ impl ScenePasses {
                     color_formats: &[],
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: Some((1.25, 1.75)),
+                    additive_blend: false,
                 },
             )?,
             gbuffer: RasterPipeline::new(
@@ -72,6 +73,7 @@ impl ScenePasses {
                     color_formats: &GBUFFER_FORMATS,
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
+                    additive_blend: false,
                 },
             )?,
             lighting: ComputePipeline::new(
@@ -106,6 +108,7 @@ impl ScenePasses {
                 color: &[],
                 depth: Some((shadow_map, layer as u32)),
                 vertex_count: scene.vertex_count,
+                keep_contents: false,
             })?;
         }
         Ok(())
@@ -141,6 +144,7 @@ impl ScenePasses {
             ],
             depth: Some((&g.depth, 0)),
             vertex_count: scene.vertex_count,
+            keep_contents: false,
         })
     }
 

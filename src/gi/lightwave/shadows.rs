@@ -83,6 +83,7 @@ impl VplShadows {
                 color_formats: &[],
                 depth_format: Some(vk::Format::D32_SFLOAT),
                 depth_bias: Some((1.25, 1.75)),
+                additive_blend: false,
             },
         )?;
         let views = gpu.create_buffer(&BufferDesc::storage(
@@ -149,6 +150,7 @@ impl VplShadows {
                     color: &[],
                     depth: Some((image, layer as u32)),
                     vertex_count: s.vertex_count,
+                    keep_contents: false,
                 })
             })?;
         }

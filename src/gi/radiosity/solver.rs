@@ -396,6 +396,7 @@ impl Solver {
                     color_formats: &[vk::Format::R32_UINT, vk::Format::R32_SFLOAT],
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
+                    additive_blend: false,
                 },
             )?,
             reflectance_sum: Vec3::ONE / (Vec3::ONE - albedo),
@@ -664,6 +665,7 @@ impl Solver {
             ],
             depth: Some((&self.item_depth, face)),
             vertex_count: self.item_vertex_count,
+            keep_contents: false,
         })
     }
 

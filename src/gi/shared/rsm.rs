@@ -51,6 +51,7 @@ impl Rsm {
                 ],
                 depth_format: Some(vk::Format::D32_SFLOAT),
                 depth_bias: None,
+                additive_blend: false,
             },
         )?;
         let lights = scene.raster_lights();
@@ -126,6 +127,7 @@ impl Rsm {
                     ],
                     depth: Some((&self.depth, 0)),
                     vertex_count: s.vertex_count,
+                    keep_contents: false,
                 })
             })?;
         }

@@ -46,6 +46,7 @@ impl TriangleIds {
                     color_formats: &[vk::Format::R32_UINT],
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
+                    additive_blend: false,
                 },
             )?,
             views: Vec::new(),
@@ -74,6 +75,7 @@ impl TriangleIds {
             color: &[(&targets.ids, 0, [0.0; 4])],
             depth: Some((&targets.depth, 0)),
             vertex_count: ctx.scene.vertex_count,
+            keep_contents: false,
         })
     }
 

@@ -1,0 +1,61 @@
+#ifndef VKGI_IC_GLSL
+#define VKGI_IC_GLSL
+// Irradiance-cache records and Ward's weight (spec 003 §2-§4); the f64 twin is
+// src/gi/irradiance_cache/cpu.rs, the Rust layout src/gi/irradiance_cache/records.rs.
+#include "common/math.glsl"
+
+struct Record {
+    vec4 position_harmonic;  // xyz p_k, w R_k (0 until the record's hemisphere is reduced)
+    vec4 normal_footprint;   // xyz n_k, w world size of a view pixel at p_k when it was placed
+    vec4 irradiance;         // rgb E_k (W/m²)
+    vec4 rotation[3];        // per channel, xyz: ∇_r E
+    vec4 translation[3];     // per channel, xyz: ∇_t E
+};
+
+// The cache's counters (Rust: records::CacheState).
+struct CacheState {
+    uint count;       // records in the cache
+    uint first;       // the records this round added: [first, end)
+    uint end;
+    uint holes;       // pixels found uncovered (one per tile) in the last round
+    uint overflowed;  // candidates refused because the cache was full, since it was emptied
+    uint placed;      // records added since the cache was emptied
+    uint pad0;
+    uint pad1;
+};
+
+// How records weigh points (Rust: cpu::Weighting).
+struct Weighting {
+    float accuracy;       // Ward's a
+    float smooth_weight;  // 1: w - 1/a (§8.2), 0: w
+    float normal_factor;  // kappa in sqrt(kappa (1 - n.n_k))
+};
+
+// Record k's weight at p with normal n; 0 where it does not contribute (cpu::Weighting::weight).
+float record_weight(Record k, Weighting w, vec3 p, vec3 n) {
+    float a = w.accuracy;
+    float harmonic = k.position_harmonic.w;
+    if (harmonic <= 0.0) return 0.0;
+    vec3 diff = p - k.position_harmonic.xyz;
+    float e1 = dot(diff, diff) / (harmonic * harmonic);
+    float e2 = w.normal_factor * max(0.0, 1.0 - dot(n, k.normal_footprint.xyz));
+    if (e1 + e2 > a * a) return 0.0;
+    float inverse = max(IC_MIN_INVERSE_WEIGHT, sqrt(e1) + sqrt(e2));
+    if (inverse > a) return 0.0;
+    if (dot(diff, n + k.normal_footprint.xyz) < -2.0 * IC_BEHIND_TOLERANCE * harmonic) return 0.0;
+    float weight = 1.0 / inverse - w.smooth_weight / a;
+    return min(max(weight, 0.0), IC_MAX_WEIGHT);
+}
+
+// Record k's irradiance extrapolated to p, n by its gradients, never negative (cpu::extrapolate).
+vec3 record_extrapolate(Record k, vec3 p, vec3 n) {
+    vec3 turn = cross(k.normal_footprint.xyz, n);
+    vec3 shift = p - k.position_harmonic.xyz;
+    vec3 e = k.irradiance.rgb;
+    for (int c = 0; c < 3; ++c) {
+        e[c] += dot(turn, k.rotation[c].xyz) + dot(shift, k.translation[c].xyz);
+    }
+    return max(e, vec3(0.0));
+}
+
+#endif

@@ -1,0 +1,460 @@
+//! The cache's GPU state and passes: the record buffer and counters, the hemisphere images of a
+//! round's new records, the constant tables, each view's splat buffer and tile candidates, and
+//! the recording of a view's placement rounds, splats and normalisation.
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::bindings as ids;
+use super::records::{CacheState, GpuRecord};
+use super::tables::{HALF_WIDTH, Tables};
+use super::{CacheSettings, Placement};
+use crate::gi::FrameContext;
+use crate::gpu::{
+    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
+    ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
+};
+use crate::render::targets::View;
+use crate::scene::Scene;
+use crate::shaders;
+
+/// Tile sides of the three rounds of tile placement (spec 003 §17 mode B).
+pub const TILE_ROUNDS: [u32; 3] = [32, 16, 8];
+/// A record's zone a·R spans at least and at most this many view pixels where it was placed.
+pub const ZONE_PIXELS: [f32; 2] = [3.0, 64.0];
+/// Format of the splat buffer: Σ w E' (rgb), Σ w.
+const SPLAT_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
+crate::push_constants! {
+    struct SelectPush {
+        size: [u32; 2],
+        tile: [u32; 2],
+        tiles_x: u32,
+        accuracy: f32,
+        scan: u32,
+    }
+}
+
+crate::push_constants! {
+    struct AppendPush {
+        eye: [f32; 4],
+        size: [u32; 2],
+        tiles: u32,
+        batch: u32,
+        capacity: u32,
+    }
+}
+
+crate::push_constants! {
+    struct HemispherePush {
+        slot: u32,
+        near: f32,
+        far: f32,
+        half_width: f32,
+        light_count: u32,
+    }
+}
+
+crate::push_constants! {
+    struct ReducePush {
+        resolution: u32,
+        accuracy: f32,
+        min_zone_pixels: f32,
+        max_zone_pixels: f32,
+    }
+}
+
+crate::push_constants! {
+    struct SplatPush {
+        view_projection: [[f32; 4]; 4],
+        size: [u32; 2],
+        round_only: u32,
+        accuracy: f32,
+        smooth_weight: f32,
+        normal_factor: f32,
+    }
+}
+
+crate::push_constants! {
+    struct NormalisePush {
+        size: [u32; 2],
+    }
+}
+
+struct Pipelines {
+    select: ComputePipeline,
+    append: ComputePipeline,
+    hemisphere: RasterPipeline,
+    reduce: ComputePipeline,
+    splat: RasterPipeline,
+    normalise: ComputePipeline,
+}
+
+/// What a view keeps: its splat buffer and one candidate slot per tile of the smallest tiles.
+pub struct ViewState {
+    pub splat: Image,
+    candidates: Buffer,
+}
+
+pub struct Passes {
+    pipelines: Pipelines,
+    pub records: Buffer,
+    pub state: Buffer,
+    state_copy: Buffer,
+    tables: Buffer,
+    /// The hemispheres of one round's new records, one layer each.
+    pub hemisphere: Image,
+    hemisphere_depth: Image,
+    /// Records one round adds at most (the hemisphere image's layers).
+    batch: u32,
+    pub views: Vec<ViewState>,
+    /// The hemisphere camera's offset above the record (and near plane), and its far plane.
+    near: f32,
+    far: f32,
+}
+
+impl Passes {
+    pub fn new(gpu: &Gpu, scene: &Scene, settings: &CacheSettings) -> anyhow::Result<Passes> {
+        if !gpu.supports_format(SPLAT_FORMAT, vk::FormatFeatureFlags::COLOR_ATTACHMENT_BLEND) {
+            return Err(GpuError::Setup(format!(
+                "irradiance-cache: {} cannot blend into {SPLAT_FORMAT:?} attachments, which the splat needs",
+                gpu.info.name
+            ))
+            .into());
+        }
+        let none = Specialization::new();
+        let compute = |name: &str, spirv: &[u8]| ComputePipeline::new(gpu, name, spirv, &none);
+        let pipelines = Pipelines {
+            select: compute("ic select", shaders::GI_IRRADIANCE_CACHE_SELECT_COMP)?,
+            append: compute("ic append", shaders::GI_IRRADIANCE_CACHE_APPEND_COMP)?,
+            reduce: compute("ic reduce", shaders::GI_IRRADIANCE_CACHE_REDUCE_COMP)?,
+            normalise: compute("ic normalise", shaders::GI_IRRADIANCE_CACHE_NORMALISE_COMP)?,
+            hemisphere: RasterPipeline::new(
+                gpu,
+                &RasterPipelineDesc {
+                    name: "ic hemisphere",
+                    vertex: shaders::GI_IRRADIANCE_CACHE_HEMISPHERE_VERT,
+                    fragment: Some(shaders::GI_IRRADIANCE_CACHE_HEMISPHERE_FRAG),
+                    color_formats: &[vk::Format::R32G32B32A32_SFLOAT],
+                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth_bias: None,
+                    additive_blend: false,
+                },
+            )?,
+            splat: RasterPipeline::new(
+                gpu,
+                &RasterPipelineDesc {
+                    name: "ic splat",
+                    vertex: shaders::GI_IRRADIANCE_CACHE_SPLAT_VERT,
+                    fragment: Some(shaders::GI_IRRADIANCE_CACHE_SPLAT_FRAG),
+                    color_formats: &[SPLAT_FORMAT],
+                    depth_format: None,
+                    depth_bias: None,
+                    additive_blend: true,
+                },
+            )?,
+        };
+        let batch = match settings.placement {
+            Placement::Scan => 1,
+            Placement::Tiles => settings.per_frame.div_ceil(TILE_ROUNDS.len() as u32),
+        };
+        let r = settings.hemisphere_size;
+        let layered = |name: &str, format: vk::Format, usage: vk::ImageUsageFlags| {
+            gpu.create_image(&ImageDesc {
+                layers: batch,
+                array: true,
+                ..ImageDesc::new_2d(name, format, r, r, usage)
+            })
+        };
+        let hemisphere = layered(
+            "ic hemispheres",
+            vk::Format::R32G32B32A32_SFLOAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::TRANSFER_SRC,
+        )?;
+        let hemisphere_depth = layered(
+            "ic hemisphere depth",
+            vk::Format::D32_SFLOAT,
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+        )?;
+        let tables = Tables::new(r as usize, settings.coverage);
+        let texels = tables.gpu_texels();
+        let record_bytes = std::mem::size_of::<GpuRecord>() as u64;
+        let state_bytes = std::mem::size_of::<CacheState>() as u64;
+        let diagonal = (scene.bounds_max - scene.bounds_min).length().max(1e-6);
+        Ok(Passes {
+            pipelines,
+            records: gpu.create_buffer(&BufferDesc::storage(
+                "ic records",
+                u64::from(settings.capacity) * record_bytes,
+            ))?,
+            state: gpu.create_buffer(&BufferDesc::storage("ic state", state_bytes))?,
+            state_copy: gpu.create_buffer(&BufferDesc {
+                name: "ic state (host copy)",
+                size: state_bytes,
+                usage: vk::BufferUsageFlags::TRANSFER_DST,
+                location: MemoryLocation::GpuToCpu,
+            })?,
+            tables: gpu.upload_storage_items("ic hemisphere tables", texels.len(), |i| texels[i])?,
+            hemisphere,
+            hemisphere_depth,
+            batch,
+            views: Vec::new(),
+            near: diagonal * 1e-4,
+            far: diagonal * 2.0,
+        })
+    }
+
+    /// Empty the cache (lights or geometry changed, or the first frame).
+    pub fn record_empty(&self, rec: &mut Recorder) {
+        rec.fill_buffer("ic empty", &self.state, 0);
+    }
+
+    /// Copy the counters where [`Passes::last_state`] reads them.
+    pub fn record_state_copy(&self, rec: &mut Recorder) {
+        rec.copy_buffer("ic state copy", &self.state, &self.state_copy, self.state.size);
+        rec.host_read(&self.state_copy);
+    }
+
+    /// The counters as the most recent finished frame left them (without waiting).
+    pub fn last_state(&self) -> CacheState {
+        self.state_copy
+            .mapped()
+            .ok()
+            .and_then(|bytes| {
+                bytemuck::try_pod_read_unaligned(&bytes[..std::mem::size_of::<CacheState>()]).ok()
+            })
+            .unwrap_or_default()
+    }
+
+    /// Make view `index`'s splat buffer and candidate slots fit the view.
+    fn fit_view(&mut self, gpu: &Gpu, view: &View, index: usize) -> GpuResult<()> {
+        let (w, h) = (view.width(), view.height());
+        let fits = self
+            .views
+            .get(index)
+            .is_some_and(|v| v.splat.width() == w && v.splat.height() == h);
+        if fits {
+            return Ok(());
+        }
+        let smallest = TILE_ROUNDS[TILE_ROUNDS.len() - 1];
+        let tiles = u64::from(w.div_ceil(smallest)) * u64::from(h.div_ceil(smallest));
+        let state = ViewState {
+            splat: gpu.create_image(&ImageDesc::new_2d(
+                "ic splat",
+                SPLAT_FORMAT,
+                w,
+                h,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT
+                    | vk::ImageUsageFlags::STORAGE
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
+            ))?,
+            candidates: gpu.create_buffer(&BufferDesc::storage("ic candidates", tiles * 4))?,
+        };
+        if index < self.views.len() {
+            self.views[index] = state;
+        } else {
+            self.views.push(state);
+        }
+        Ok(())
+    }
+
+    /// A view's frame: splat every record, then place records where the view lacks them.
+    pub fn record_view(
+        &mut self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        index: usize,
+        settings: &CacheSettings,
+    ) -> GpuResult<()> {
+        let view = &ctx.views[index];
+        self.fit_view(rec.gpu(), view, index)?;
+        self.record_splat(rec, view, index, settings, false)?;
+        match settings.placement {
+            Placement::Tiles => {
+                for tile in TILE_ROUNDS {
+                    self.record_round(rec, ctx, index, settings, [tile, tile], false)?;
+                }
+            }
+            Placement::Scan => {
+                for _ in 0..settings.per_frame {
+                    let whole = [view.width(), view.height()];
+                    self.record_round(rec, ctx, index, settings, whole, true)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// One round: find the uncovered pixels (one per tile), add records there, render and
+    /// reduce their hemispheres, splat them.
+    fn record_round(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        index: usize,
+        settings: &CacheSettings,
+        tile: [u32; 2],
+        scan: bool,
+    ) -> GpuResult<()> {
+        let view = &ctx.views[index];
+        let state = &self.views[index];
+        let g = &view.gbuffer;
+        let size = [view.width(), view.height()];
+        let tiles = [size[0].div_ceil(tile[0]), size[1].div_ceil(tile[1])];
+        let accuracy = settings.weighting.accuracy as f32;
+        rec.compute(&ComputePass {
+            name: "ic select",
+            pipeline: &self.pipelines.select,
+            bindings: &[
+                Binding::image_read(ids::IC_GBUFFER_POSITION, &g.position),
+                Binding::image_read(ids::IC_SPLAT, &state.splat),
+                Binding::write(ids::IC_CANDIDATES, &state.candidates),
+            ],
+            push: &SelectPush {
+                size,
+                tile,
+                tiles_x: tiles[0],
+                accuracy,
+                scan: u32::from(scan),
+            },
+            threads: [tiles[0] * ids::IC_WORKGROUP, tiles[1], 1],
+        })?;
+        let view_projection = view.eye.view_projection;
+        // World size of a pixel per unit of distance: 2 tan(fov/2) / height, from the
+        // projection's y row.
+        let pixel_angle = 2.0 / (view_projection.row(1).truncate().length() * size[1] as f32);
+        rec.compute(&ComputePass {
+            name: "ic append",
+            pipeline: &self.pipelines.append,
+            bindings: &[
+                Binding::image_read(ids::IC_GBUFFER_POSITION, &g.position),
+                Binding::image_read(ids::IC_GBUFFER_NORMAL, &g.normal),
+                Binding::read(ids::IC_CANDIDATES, &state.candidates),
+                Binding::write(ids::IC_RECORDS, &self.records),
+                Binding::write(ids::IC_STATE, &self.state),
+            ],
+            push: &AppendPush {
+                eye: view.eye.position.extend(pixel_angle).to_array(),
+                size,
+                tiles: tiles[0] * tiles[1],
+                batch: self.batch,
+                capacity: settings.capacity,
+            },
+            threads: [1, 1, 1],
+        })?;
+        self.record_hemispheres(rec, ctx)?;
+        rec.compute(&ComputePass {
+            name: "ic reduce",
+            pipeline: &self.pipelines.reduce,
+            bindings: &[
+                Binding::image_read(ids::IC_HEMISPHERE, &self.hemisphere),
+                Binding::read(ids::IC_TABLES, &self.tables),
+                Binding::write(ids::IC_RECORDS, &self.records),
+                Binding::read(ids::IC_STATE, &self.state),
+            ],
+            push: &ReducePush {
+                resolution: settings.hemisphere_size,
+                accuracy,
+                min_zone_pixels: ZONE_PIXELS[0],
+                max_zone_pixels: ZONE_PIXELS[1],
+            },
+            threads: [ids::IC_WORKGROUP, self.batch, 1],
+        })?;
+        self.record_splat(rec, view, index, settings, true)
+    }
+
+    /// Every hemisphere slot of the round (slots past the round's new records draw nothing).
+    fn record_hemispheres(&self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        let scene = ctx.scene;
+        for slot in 0..self.batch {
+            rec.raster(&RasterPass {
+                name: "ic hemisphere",
+                pipeline: &self.pipelines.hemisphere,
+                bindings: &[
+                    Binding::read(ids::IC_VERTICES, &scene.vertices),
+                    Binding::read(ids::IC_TRIANGLES, &scene.triangles),
+                    Binding::read(ids::IC_RECORDS, &self.records),
+                    Binding::read(ids::IC_STATE, &self.state),
+                    Binding::read(ids::IC_MATERIALS, &scene.materials),
+                    Binding::read(ids::IC_TEXTURES, &scene.textures),
+                    Binding::read(ids::IC_LIGHTS, &scene.lights),
+                    Binding::read(ids::IC_SHADOW_VIEWS, &scene.shadow_views),
+                    Binding::sampled(ids::IC_SHADOW_MAP, ctx.shadow_map, ctx.shadow_sampler),
+                ],
+                push: &HemispherePush {
+                    slot,
+                    near: self.near,
+                    far: self.far,
+                    half_width: HALF_WIDTH as f32,
+                    light_count: scene.light_count,
+                },
+                color: &[(&self.hemisphere, slot, [0.0; 4])],
+                depth: Some((&self.hemisphere_depth, slot)),
+                vertex_count: scene.vertex_count,
+                keep_contents: false,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Splat every record (clearing the buffer first) or only this round's (adding to it).
+    fn record_splat(
+        &self,
+        rec: &mut Recorder,
+        view: &View,
+        index: usize,
+        settings: &CacheSettings,
+        round_only: bool,
+    ) -> GpuResult<()> {
+        let g = &view.gbuffer;
+        let w = &settings.weighting;
+        let quads = if round_only {
+            self.batch
+        } else {
+            settings.capacity
+        };
+        rec.raster(&RasterPass {
+            name: if round_only { "ic splat new" } else { "ic splat" },
+            pipeline: &self.pipelines.splat,
+            bindings: &[
+                Binding::read(ids::IC_RECORDS, &self.records),
+                Binding::read(ids::IC_STATE, &self.state),
+                Binding::image_read(ids::IC_GBUFFER_POSITION, &g.position),
+                Binding::image_read(ids::IC_GBUFFER_NORMAL, &g.normal),
+            ],
+            push: &SplatPush {
+                view_projection: view.eye.view_projection.to_cols_array_2d(),
+                size: [view.width(), view.height()],
+                round_only: u32::from(round_only),
+                accuracy: w.accuracy as f32,
+                smooth_weight: if w.smooth { 1.0 } else { 0.0 },
+                normal_factor: w.normal_factor as f32,
+            },
+            color: &[(&self.views[index].splat, 0, [0.0; 4])],
+            depth: None,
+            vertex_count: 6 * quads,
+            keep_contents: round_only,
+        })
+    }
+
+    /// Indirect radiance from the splat buffer into the view's HDR image.
+    pub fn record_normalise(&self, rec: &mut Recorder, view: &View, index: usize) -> GpuResult<()> {
+        let g = &view.gbuffer;
+        rec.compute(&ComputePass {
+            name: "ic normalise",
+            pipeline: &self.pipelines.normalise,
+            bindings: &[
+                Binding::image_read(ids::IC_GBUFFER_POSITION, &g.position),
+                Binding::image_read(ids::IC_GBUFFER_ALBEDO, &g.albedo),
+                Binding::image_read(ids::IC_SPLAT, &self.views[index].splat),
+                Binding::image_write(ids::IC_HDR, &view.hdr),
+            ],
+            push: &NormalisePush {
+                size: [view.width(), view.height()],
+            },
+            threads: [view.width(), view.height(), 1],
+        })
+    }
+}
