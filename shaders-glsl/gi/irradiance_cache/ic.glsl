@@ -38,7 +38,9 @@ float record_weight(Record k, Weighting w, vec3 p, vec3 n) {
     if (harmonic <= 0.0) return 0.0;
     vec3 diff = p - k.position_harmonic.xyz;
     float e1 = dot(diff, diff) / (harmonic * harmonic);
-    float e2 = w.normal_factor * max(0.0, 1.0 - dot(n, k.normal_footprint.xyz));
+    // 1 - n.n_k as |n - n_k|² / 2 (unit vectors): no cancellation where the normals agree.
+    vec3 turn = n - k.normal_footprint.xyz;
+    float e2 = w.normal_factor * 0.5 * dot(turn, turn);
     if (e1 + e2 > a * a) return 0.0;
     float inverse = max(IC_MIN_INVERSE_WEIGHT, sqrt(e1) + sqrt(e2));
     if (inverse > a) return 0.0;

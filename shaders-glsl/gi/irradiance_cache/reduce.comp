@@ -1,9 +1,11 @@
 #version 460
 // A record's irradiance, gradients and harmonic mean distance from its hemisphere (spec 003 §7,
 // §10), summed on the GPU with the constant tables (src/gi/irradiance_cache/tables.rs): one
-// workgroup per record this round added (workgroup y = its slot). R is then clamped so the
-// record's zone a·R spans [min, max] view pixels where it was placed, and to E/|∇_t E| (so the
-// extrapolation cannot more than double or cancel E inside R). The f64 twin is cpu::reduce.
+// workgroup per record this round added (workgroup y = its slot). R is then limited to
+// E/|∇_t E| (the extrapolation cannot more than double or cancel E inside R) and clamped so the
+// record's zone a·R spans [min, max] view pixels where it was placed; a record widened by the
+// clamp has its translation gradient scaled down by as much. The f64 twins are cpu::reduce and
+// cpu::limit_radius.
 #include "common/sampling.glsl"
 #include "gi/irradiance_cache/ic.glsl"
 
@@ -98,7 +100,14 @@ void main() {
     float pixel = record.normal_footprint.w;
     float smallest = pc.min_zone_pixels * pixel / pc.accuracy;
     float largest = pc.max_zone_pixels * pixel / pc.accuracy;
-    record.position_harmonic.w = clamp(min(harmonic, gradient_limit), smallest, largest);
+    float limited = min(harmonic, gradient_limit);
+    float radius = clamp(limited, smallest, largest);
+    // A record widened past its limits extrapolates with its gradient scaled down as much
+    // (Křivánek et al. 2006), so E' changes by at most E over the zone.
+    if (radius > limited) {
+        for (int c = 0; c < 3; ++c) record.translation[c] *= limited / radius;
+    }
+    record.position_harmonic.w = radius;
     record.irradiance = vec4(e, 0.0);
     records[index] = record;
 }

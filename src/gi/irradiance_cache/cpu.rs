@@ -109,6 +109,29 @@ pub fn reduce(tables: &Tables, hemisphere: &Hemisphere, position: DVec3, normal:
     }
 }
 
+/// R limited and clamped as the GPU reduction does: to E/|∇_t E| per channel, then so the zone
+/// a·R spans `zone_pixels` view pixels of world size `footprint`; a record widened by the clamp
+/// has its translation gradient scaled down by as much (Křivánek et al. 2006).
+pub fn limit_radius(record: &mut Record, footprint: f64, accuracy: f64, zone_pixels: [f64; 2]) {
+    let mut limited = record.harmonic;
+    for c in 0..3 {
+        let slope = record.translation[c].length();
+        if slope > 0.0 && record.irradiance[c] > 0.0 {
+            limited = limited.min(record.irradiance[c] / slope);
+        }
+    }
+    let radius = limited.clamp(
+        zone_pixels[0] * footprint / accuracy,
+        zone_pixels[1] * footprint / accuracy,
+    );
+    if radius > limited {
+        for t in &mut record.translation {
+            *t *= limited / radius;
+        }
+    }
+    record.harmonic = radius;
+}
+
 /// Sample the hemisphere of a record at `position`, `normal` through the centre of every
 /// texel of the tables' plane; `trace(origin, direction)` gives the radiance arriving from
 /// `direction` and the distance to its source, or None.
@@ -181,7 +204,8 @@ impl Weighting {
         let a = self.accuracy;
         let diff = p - k.position;
         let e1 = diff.length_squared() / (k.harmonic * k.harmonic);
-        let e2 = self.normal_factor * (1.0 - n.dot(k.normal)).max(0.0);
+        // 1 − n·n_k as |n − n_k|²/2 (unit vectors): no cancellation where the normals agree.
+        let e2 = self.normal_factor * 0.5 * (n - k.normal).length_squared();
         if e1 + e2 > a * a {
             return None;
         }

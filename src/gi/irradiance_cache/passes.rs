@@ -171,7 +171,8 @@ impl Passes {
             vk::Format::R32G32B32A32_SFLOAT,
             vk::ImageUsageFlags::COLOR_ATTACHMENT
                 | vk::ImageUsageFlags::STORAGE
-                | vk::ImageUsageFlags::TRANSFER_SRC,
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | vk::ImageUsageFlags::TRANSFER_DST,
         )?;
         let hemisphere_depth = layered(
             "ic hemisphere depth",
@@ -345,6 +346,13 @@ impl Passes {
             threads: [1, 1, 1],
         })?;
         self.record_hemispheres(rec, ctx)?;
+        self.record_reduce(rec, settings)?;
+        self.record_splat(rec, view, index, settings, true)
+    }
+
+    /// The records `[first, end)` of the cache state from their hemispheres (layer k: record
+    /// first + k).
+    pub fn record_reduce(&self, rec: &mut Recorder, settings: &CacheSettings) -> GpuResult<()> {
         rec.compute(&ComputePass {
             name: "ic reduce",
             pipeline: &self.pipelines.reduce,
@@ -356,13 +364,12 @@ impl Passes {
             ],
             push: &ReducePush {
                 resolution: settings.hemisphere_size,
-                accuracy,
+                accuracy: settings.weighting.accuracy as f32,
                 min_zone_pixels: ZONE_PIXELS[0],
                 max_zone_pixels: ZONE_PIXELS[1],
             },
             threads: [ids::IC_WORKGROUP, self.batch, 1],
-        })?;
-        self.record_splat(rec, view, index, settings, true)
+        })
     }
 
     /// Every hemisphere slot of the round (slots past the round's new records draw nothing).

@@ -1,0 +1,305 @@
+//! Irradiance caching (seed 003) on lavapipe with validation on: the GPU reduction against the
+//! f64 reduction of the same hemisphere, a constant hemisphere giving E = πL, the splat against
+//! a brute-force gather over every record, and the gradients against finite differences of
+//! brute-force hemisphere integrals.
+
+mod common;
+
+use glam::{DVec3, Vec3};
+use vkgi::gi::irradiance_cache::cpu::{self, Hemisphere};
+use vkgi::gi::irradiance_cache::passes::ZONE_PIXELS;
+use vkgi::gi::irradiance_cache::records::{CacheState, GpuRecord};
+use vkgi::gi::irradiance_cache::tables::{Coverage, Tables};
+use vkgi::gi::irradiance_cache::{CacheSettings, IrradianceCache, Placement};
+use vkgi::gi::registry::Setup;
+use vkgi::gpu::Gpu;
+use vkgi::render::Frame;
+use vkgi::render::runner::run_frames;
+use vkgi::scene::bvh::Bvh;
+use vkgi::scene::{Mesh, Scene};
+
+fn settings(placement: Placement, accuracy: f64, per_frame: u32) -> CacheSettings {
+    CacheSettings {
+        weighting: cpu::Weighting {
+            accuracy,
+            smooth: true,
+            normal_factor: 1.0,
+            max_weight: 1e4,
+        },
+        coverage: Coverage::Stretch,
+        hemisphere_size: 32,
+        placement,
+        capacity: 4096,
+        per_frame,
+    }
+}
+
+/// Half-precision bits to f32 (the G-buffer's normals).
+fn half(bits: u16) -> f32 {
+    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exponent = i32::from((bits >> 10) & 0x1f);
+    let mantissa = f32::from(bits & 0x3ff);
+    match exponent {
+        0 => sign * mantissa * 2f32.powi(-24),
+        31 => sign * f32::INFINITY,
+        e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+fn read_records(gpu: &Gpu, ic: &IrradianceCache) -> (CacheState, Vec<GpuRecord>) {
+    let state_bytes = gpu.read_buffer(&ic.passes.state).unwrap();
+    let state: CacheState =
+        bytemuck::pod_read_unaligned(&state_bytes[..std::mem::size_of::<CacheState>()]);
+    let bytes = gpu.read_buffer(&ic.passes.records).unwrap();
+    let records = bytemuck::cast_slice::<u8, GpuRecord>(&bytes)[..state.count as usize].to_vec();
+    (state, records)
+}
+
+/// Run `frames` frames of the cache on the Cornell box at 64×48, indirect light only.
+fn run(gpu: &Gpu, scene: &Scene, settings: CacheSettings, frames: u32) -> (Frame, IrradianceCache) {
+    let mut frame = Frame::new(gpu, scene, common::indirect_only(64, 48)).unwrap();
+    let mut ic = IrradianceCache::with(&Setup::new(gpu, scene), settings).unwrap();
+    drop(run_frames(gpu, &mut frame, Some(&mut ic), 0, frames).unwrap());
+    (frame, ic)
+}
+
+#[test]
+fn the_gpu_reduction_matches_the_f64_reduction_of_the_same_hemisphere() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let s = settings(Placement::Scan, 0.3, 3);
+    let (_frame, ic) = run(&gpu, &scene, s.clone(), 2);
+    let (state, records) = read_records(&gpu, &ic);
+    assert_eq!(
+        state.end,
+        state.first + 1,
+        "scan placement adds one record a round"
+    );
+    let record = records[state.first as usize];
+    let r = s.hemisphere_size as usize;
+    let bytes = gpu.read_image(&ic.passes.hemisphere).unwrap();
+    let texels: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    let layer = &texels[..r * r];
+    let hemisphere = Hemisphere {
+        radiance: layer
+            .iter()
+            .map(|t| [0, 1, 2].map(|c| f64::from(t[c])))
+            .collect(),
+        distance: layer
+            .iter()
+            .map(|t| (t[3] > 0.0).then_some(f64::from(t[3])))
+            .collect(),
+    };
+    assert!(
+        hemisphere.radiance.iter().any(|l| l[0] > 0.0),
+        "the record sees light"
+    );
+    let expected_record = record.to_record();
+    let tables = Tables::new(r, s.coverage);
+    let mut expected = cpu::reduce(
+        &tables,
+        &hemisphere,
+        expected_record.position,
+        expected_record.normal,
+    );
+    let zone = ZONE_PIXELS.map(f64::from);
+    cpu::limit_radius(
+        &mut expected,
+        record.footprint(),
+        s.weighting.accuracy,
+        zone,
+    );
+    let got = record.to_record();
+    let scale = expected.irradiance.iter().fold(0.0f64, |m, v| m.max(*v));
+    for c in 0..3 {
+        assert!(
+            (got.irradiance[c] - expected.irradiance[c]).abs() < 1e-5 * scale,
+            "E {c}"
+        );
+        assert!(
+            (got.rotation[c] - expected.rotation[c]).length() < 1e-5 * scale,
+            "∇r {c}"
+        );
+        let slope = expected.translation[c].length().max(scale);
+        let error = (got.translation[c] - expected.translation[c]).length();
+        assert!(error < 1e-4 * slope, "∇t {c}: {error} of {slope}");
+    }
+    assert!((got.harmonic - expected.harmonic).abs() < 1e-5 * expected.harmonic);
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn a_constant_hemisphere_gives_pi_l_with_border_stretching() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let s = settings(Placement::Scan, 0.5, 1);
+    let ic = IrradianceCache::with(&Setup::new(&gpu, &scene), s.clone()).unwrap();
+    let record = GpuRecord {
+        position_harmonic: [0.2, 0.0, 0.3, 0.0],
+        normal_footprint: [0.0, 1.0, 0.0, 0.01],
+        ..GpuRecord::default()
+    };
+    let state = CacheState {
+        count: 1,
+        first: 0,
+        end: 1,
+        ..CacheState::default()
+    };
+    let radiance = [0.7, 0.2, 1.5];
+    gpu.write_buffer(&ic.passes.records, bytemuck::bytes_of(&record))
+        .unwrap();
+    gpu.write_buffer(&ic.passes.state, bytemuck::bytes_of(&state))
+        .unwrap();
+    gpu.one_shot(|rec| {
+        let colour = [radiance[0], radiance[1], radiance[2], 0.4];
+        rec.clear_image("constant hemisphere", &ic.passes.hemisphere, colour);
+        ic.passes.record_reduce(rec, &s)
+    })
+    .unwrap();
+    let (_, records) = read_records(&gpu, &ic);
+    let got = records[0].to_record();
+    for c in 0..3 {
+        let expected = std::f64::consts::PI * f64::from(radiance[c]);
+        assert!(
+            (got.irradiance[c] - expected).abs() < 2e-6 * expected,
+            "{c}"
+        );
+        assert!(got.rotation[c].length() < 1e-5 && got.translation[c].length() < 1e-5);
+    }
+    // R is the surroundings' distance, 0.4, inside the clamp [3, 64] × 0.01 / 0.5.
+    assert!((got.harmonic - 0.4).abs() < 1e-6, "{}", got.harmonic);
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn the_splat_equals_a_brute_force_gather_over_every_record() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let s = settings(Placement::Tiles, 0.3, 48);
+    let (frame, ic) = run(&gpu, &scene, s.clone(), 30);
+    let (state, records) = read_records(&gpu, &ic);
+    assert!(state.count > 20, "{} records", state.count);
+    let records: Vec<cpu::Record> = records.iter().map(GpuRecord::to_record).collect();
+    let view = frame.view();
+    let positions = gpu.read_image(&view.gbuffer.position).unwrap();
+    let positions: &[[f32; 4]] = bytemuck::cast_slice(&positions);
+    let normals = gpu.read_image(&view.gbuffer.normal).unwrap();
+    let normals: &[[u16; 4]] = bytemuck::cast_slice(&normals);
+    let splat = gpu.read_image(&ic.passes.views[0].splat).unwrap();
+    let splat: &[[f32; 4]] = bytemuck::cast_slice(&splat);
+    let (mut covered, mut worst_weight, mut worst_irradiance) = (0, 0.0f64, 0.0f64);
+    for (i, p) in positions.iter().enumerate() {
+        if p[3] == 0.0 {
+            continue;
+        }
+        let position = Vec3::new(p[0], p[1], p[2]).as_dvec3();
+        let n = normals[i].map(half);
+        let normal = Vec3::new(n[0], n[1], n[2]).normalize().as_dvec3();
+        let (sum, weight) = cpu::gather(&records, &s.weighting, position, normal);
+        let gpu_weight = f64::from(splat[i][3]);
+        worst_weight = worst_weight.max((gpu_weight - weight).abs() / weight.max(1.0));
+        if weight > 0.0 {
+            covered += 1;
+            for c in 0..3 {
+                let e = sum[c] / weight;
+                let gpu_e = f64::from(splat[i][c]) / gpu_weight;
+                worst_irradiance = worst_irradiance.max((gpu_e - e).abs() / e.max(1e-3));
+            }
+        }
+    }
+    // Placement has finished: every surface pixel is covered.
+    let surface = positions.iter().filter(|p| p[3] != 0.0).count();
+    assert_eq!(state.holes, 0, "{} records", state.count);
+    assert_eq!(covered, surface);
+    assert!(
+        worst_weight < 1e-3,
+        "Σw differs by {worst_weight} (relative)"
+    );
+    assert!(
+        worst_irradiance < 1e-3,
+        "Σ w E' / Σ w differs by {worst_irradiance}"
+    );
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// A floor with a bright wall on one side and a block casting a distance boundary, every
+/// surface of constant radiance (its albedo's red channel, as if emitted).
+fn gradient_scene() -> (Mesh, Vec<[f64; 3]>) {
+    let mut mesh = Mesh::default();
+    let quad = |mesh: &mut Mesh, [a, b, c, d]: [Vec3; 4], material: u32| {
+        mesh.push_triangle([a, b, c], [Vec3::ZERO; 3], material);
+        mesh.push_triangle([a, c, d], [Vec3::ZERO; 3], material);
+    };
+    let v = Vec3::new;
+    quad(
+        &mut mesh,
+        [
+            v(-2.0, 0.0, -2.0),
+            v(2.0, 0.0, -2.0),
+            v(2.0, 0.0, 2.0),
+            v(-2.0, 0.0, 2.0),
+        ],
+        0,
+    );
+    quad(
+        &mut mesh,
+        [
+            v(1.0, 0.0, -2.0),
+            v(1.0, 2.0, -2.0),
+            v(1.0, 2.0, 2.0),
+            v(1.0, 0.0, 2.0),
+        ],
+        1,
+    );
+    mesh.push_cuboid(v(-0.6, 0.0, -0.3), v(-0.2, 0.5, 0.3), 2);
+    (mesh, vec![[0.1; 3], [2.0, 1.0, 0.5], [0.3, 0.6, 0.2]])
+}
+
+#[test]
+fn gradients_match_finite_differences_of_brute_force_hemisphere_integrals() {
+    let (mesh, radiance) = gradient_scene();
+    let bvh = Bvh::build(&mesh);
+    let trace = |origin: DVec3, dir: DVec3| {
+        bvh.intersect(&mesh, origin.as_vec3(), dir.as_vec3(), 1e-5, 1e30)
+            .map(|hit| {
+                (
+                    radiance[mesh.materials[hit.triangle] as usize],
+                    f64::from(hit.t),
+                )
+            })
+    };
+    let tables = Tables::new(128, Coverage::Stretch);
+    let n = DVec3::Y;
+    let (tangent, bitangent) = cpu::basis(n);
+    let brute = |p: DVec3, normal: DVec3| cpu::integrate_hemisphere(1024, p, normal, &trace);
+    for p in [DVec3::new(0.3, 1e-4, 0.1), DVec3::new(-0.1, 1e-4, 0.6)] {
+        let hemisphere = cpu::sample_hemisphere(128, p, n, &trace);
+        let record = cpu::reduce(&tables, &hemisphere, p, n);
+        let e0 = brute(p, n);
+        let h = 0.02;
+        for axis in [tangent, bitangent] {
+            let forward = brute(p + axis * h, n);
+            let back = brute(p - axis * h, n);
+            // n tilted toward `axis` by ±h radians.
+            let turned = |s: f64| n * (s * h).cos() + axis * (s * h).sin();
+            let up = brute(p, turned(1.0).normalize());
+            let down = brute(p, turned(-1.0).normalize());
+            for c in 0..3 {
+                let fd = (forward[c] - back[c]) / (2.0 * h);
+                let got = record.translation[c].dot(axis);
+                let scale = e0[c];
+                assert!(
+                    (got - fd).abs() < 0.05 * scale + 0.15 * fd.abs(),
+                    "∇t·{axis} channel {c} at {p}: tables {got}, finite differences {fd} (E {scale})"
+                );
+                let fd_rot = (up[c] - down[c]) / (2.0 * h);
+                let turn = n.cross(turned(1.0).normalize());
+                let predicted = turn.dot(record.rotation[c]) / h.sin();
+                assert!(
+                    (predicted - fd_rot).abs() < 0.02 * scale + 0.05 * fd_rot.abs(),
+                    "∇r channel {c} at {p}: tables {predicted}, finite differences {fd_rot}"
+                );
+            }
+        }
+    }
+}
