@@ -158,8 +158,8 @@ fn a_constant_hemisphere_gives_pi_l_with_border_stretching() {
     .unwrap();
     let (_, records) = read_records(&gpu, &ic);
     let got = records[0].to_record();
-    for c in 0..3 {
-        let expected = std::f64::consts::PI * f64::from(radiance[c]);
+    for (c, l) in radiance.into_iter().enumerate() {
+        let expected = std::f64::consts::PI * f64::from(l);
         assert!(
             (got.irradiance[c] - expected).abs() < 2e-6 * expected,
             "{c}"
