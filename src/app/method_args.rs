@@ -46,7 +46,25 @@ fn setting_arg(setting: &'static Setting, methods: &[&str], list: bool) -> Arg {
         (Kind::Flag, _) => String::new(),
         (_, d) => format!(" [default: {d}]"),
     };
-    let help = format!("({}) {}{default}", methods.join(", "), setting.help);
+    // Methods sharing a name may mean different things by it: each says its own then.
+    let own: Vec<&Setting> = methods
+        .iter()
+        .filter_map(|m| registry::find(m))
+        .filter_map(|m| m.settings.iter().find(|s| s.name == setting.name))
+        .collect();
+    let alike = own
+        .iter()
+        .all(|s| s.help == setting.help && s.default == setting.default);
+    let help = if alike {
+        format!("({}) {}{default}", methods.join(", "), setting.help)
+    } else {
+        methods
+            .iter()
+            .zip(&own)
+            .map(|(m, s)| format!("({m}) {} [default: {}]", s.help, s.default))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
     let arg = Arg::new(setting.name)
         .long(setting.name)
         .help(help)

@@ -20,9 +20,16 @@ layout(push_constant) uniform Push {
     uint tiles;
     uint batch;
     uint capacity;
+    uint generation;   // records of another generation are gone (lights or geometry changed)
 } pc;
 
 void main() {
+    if (state.generation != pc.generation) {
+        state.count = 0u;
+        state.overflowed = 0u;
+        state.placed = 0u;
+        state.generation = pc.generation;
+    }
     uint found = 0u;
     for (uint t = 0u; t < pc.tiles; ++t) {
         if (candidates[t] != uint(IC_NONE)) ++found;

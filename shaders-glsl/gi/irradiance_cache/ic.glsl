@@ -20,8 +20,8 @@ struct CacheState {
     uint holes;       // pixels found uncovered (one per tile) in the last round
     uint overflowed;  // candidates refused because the cache was full, since it was emptied
     uint placed;      // records added since the cache was emptied
-    uint pad0;
-    uint pad1;
+    uint generation;  // the cache holds records of this generation; another means it is empty
+    uint pad;
 };
 
 // How records weigh points (Rust: cpu::Weighting).

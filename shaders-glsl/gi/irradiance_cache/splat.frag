@@ -15,6 +15,7 @@ layout(push_constant) uniform Push {
     float accuracy;
     float smooth_weight;
     float normal_factor;
+    uint generation;
 } pc;
 
 layout(location = 0) flat in uint in_record;

@@ -15,6 +15,7 @@ layout(push_constant) uniform Push {
     float accuracy;
     float smooth_weight;
     float normal_factor;
+    uint generation;   // records of another generation are gone
 } pc;
 
 layout(location = 0) flat out uint out_record;
@@ -24,6 +25,7 @@ const vec2 CORNERS[6] = vec2[6](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), 
 void main() {
     uint index = (pc.round_only == 1u ? state.first : 0u) + gl_VertexIndex / 6;
     uint end = pc.round_only == 1u ? state.end : state.count;
+    if (state.generation != pc.generation) end = 0u;
     out_record = index;
     if (index >= end) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);

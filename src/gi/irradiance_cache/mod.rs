@@ -171,8 +171,8 @@ impl GiMethod for IrradianceCache {
 
     fn record_view(&mut self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
         let changes = ctx.changes;
-        if view == 0 && (ctx.frame == 0 || changes.lights || changes.geometry) {
-            self.passes.record_empty(rec);
+        if view == 0 && ctx.frame > 0 && (changes.lights || changes.geometry) {
+            self.passes.empty();
         }
         self.passes.record_view(rec, ctx, view, &self.settings)
     }

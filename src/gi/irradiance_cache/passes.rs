@@ -42,6 +42,7 @@ crate::push_constants! {
         tiles: u32,
         batch: u32,
         capacity: u32,
+        generation: u32,
     }
 }
 
@@ -72,6 +73,7 @@ crate::push_constants! {
         accuracy: f32,
         smooth_weight: f32,
         normal_factor: f32,
+        generation: u32,
     }
 }
 
@@ -111,6 +113,9 @@ pub struct Passes {
     /// The hemisphere camera's offset above the record (and near plane), and its far plane.
     near: f32,
     far: f32,
+    /// The generation of records the passes use (the state buffer starts at 0, the passes at
+    /// 1); a new generation empties the cache from the next pass on, in whichever view.
+    generation: u32,
 }
 
 impl Passes {
@@ -184,7 +189,7 @@ impl Passes {
         let record_bytes = std::mem::size_of::<GpuRecord>() as u64;
         let state_bytes = std::mem::size_of::<CacheState>() as u64;
         let diagonal = (scene.bounds_max - scene.bounds_min).length().max(1e-6);
-        Ok(Passes {
+        let passes = Passes {
             pipelines,
             records: gpu.create_buffer(&BufferDesc::storage(
                 "ic records",
@@ -204,12 +209,19 @@ impl Passes {
             views: Vec::new(),
             near: diagonal * 1e-4,
             far: diagonal * 2.0,
-        })
+            generation: 1,
+        };
+        gpu.one_shot(|rec| {
+            rec.fill_buffer("ic state start", &passes.state, 0);
+            Ok(())
+        })?;
+        Ok(passes)
     }
 
-    /// Empty the cache (lights or geometry changed, or the first frame).
-    pub fn record_empty(&self, rec: &mut Recorder) {
-        rec.fill_buffer("ic empty", &self.state, 0);
+    /// Empty the cache (lights or geometry changed): the next pass that reads it, in any view,
+    /// finds it empty.
+    pub fn empty(&mut self) {
+        self.generation = self.generation.wrapping_add(1).max(1);
     }
 
     /// Copy the counters where [`Passes::last_state`] reads them.
@@ -342,6 +354,7 @@ impl Passes {
                 tiles: tiles[0] * tiles[1],
                 batch: self.batch,
                 capacity: settings.capacity,
+                generation: self.generation,
             },
             threads: [1, 1, 1],
         })?;
@@ -438,6 +451,7 @@ impl Passes {
                 accuracy: w.accuracy as f32,
                 smooth_weight: if w.smooth { 1.0 } else { 0.0 },
                 normal_factor: w.normal_factor as f32,
+                generation: self.generation,
             },
             color: &[(&self.views[index].splat, 0, [0.0; 4])],
             depth: None,

@@ -32,7 +32,9 @@ pub struct CacheState {
     pub overflowed: u32,
     /// Records added since the cache was emptied.
     pub placed: u32,
-    pub pad: [u32; 2],
+    /// The generation of the records held: passes of another generation see an empty cache.
+    pub generation: u32,
+    pub pad: u32,
 }
 
 fn vec3(v: [f32; 4]) -> DVec3 {
