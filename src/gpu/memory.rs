@@ -82,6 +82,13 @@ impl Buffer {
             .map(|s| &s[..self.size as usize])
             .ok_or_else(|| GpuError::Setup(format!("buffer '{}' is not host-visible", self.name)))
     }
+
+    /// The value at the start of a host-visible buffer (None if it is not host-visible or too
+    /// small), e.g. counters a frame copied back.
+    pub fn mapped_value<T: bytemuck::Pod>(&self) -> Option<T> {
+        let bytes = self.mapped().ok()?;
+        bytemuck::try_pod_read_unaligned(bytes.get(..std::mem::size_of::<T>())?).ok()
+    }
 }
 
 impl Drop for Buffer {

@@ -232,13 +232,7 @@ impl Passes {
 
     /// The counters as the most recent finished frame left them (without waiting).
     pub fn last_state(&self) -> CacheState {
-        self.state_copy
-            .mapped()
-            .ok()
-            .and_then(|bytes| {
-                bytemuck::try_pod_read_unaligned(&bytes[..std::mem::size_of::<CacheState>()]).ok()
-            })
-            .unwrap_or_default()
+        self.state_copy.mapped_value().unwrap_or_default()
     }
 
     /// Make view `index`'s splat buffer and candidate slots fit the view.

@@ -619,11 +619,7 @@ impl Solver {
 
     /// The state as the most recent finished frame left it (without waiting).
     pub fn last_state(&self) -> ShotState {
-        self.shot_copy
-            .mapped()
-            .ok()
-            .and_then(|bytes| bytemuck::try_pod_read_unaligned(&bytes[..std::mem::size_of::<ShotState>()]).ok())
-            .unwrap_or_default()
+        self.shot_copy.mapped_value().unwrap_or_default()
     }
 
     /// Threads of a pass with one per element, in rows of at most [`MAX_WORKGROUPS_X`]
