@@ -24,12 +24,7 @@ layout(push_constant) uniform Push {
 } pc;
 
 void main() {
-    if (state.generation != pc.generation) {
-        state.count = 0u;
-        state.overflowed = 0u;
-        state.placed = 0u;
-        state.generation = pc.generation;
-    }
+    if (state.generation != pc.generation) empty_cache(state, pc.generation);
     uint found = 0u;
     for (uint t = 0u; t < pc.tiles; ++t) {
         if (candidates[t] != uint(IC_NONE)) ++found;

@@ -18,6 +18,9 @@ layout(push_constant) uniform Push {
     float far;
     float half_width;
     uint light_count;
+    float accuracy;       // the snapshot's weighting (bounces past the first)
+    float smooth_weight;
+    float normal_factor;
 } pc;
 
 layout(location = 0) out vec3 out_position;

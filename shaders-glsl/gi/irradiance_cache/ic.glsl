@@ -21,8 +21,27 @@ struct CacheState {
     uint overflowed;  // candidates refused because the cache was full, since it was emptied
     uint placed;      // records added since the cache was emptied
     uint generation;  // the cache holds records of this generation; another means it is empty
-    uint pad;
+    uint bounce;      // records [0, refreshed) hold this many bounces, the rest one fewer
+    uint refreshed;   // records recomputed for `bounce` so far
+    uint previous_count;  // records in the previous bounce's snapshot
+    uint snapshot;    // 1: this frame copies the cache into the snapshot
+    float change;     // relative change of Σ E over the records from the previous bounce
 };
+
+// An empty cache of `generation`, holding one bounce.
+void empty_cache(inout CacheState s, uint generation) {
+    s.count = 0u;
+    s.first = 0u;
+    s.end = 0u;
+    s.overflowed = 0u;
+    s.placed = 0u;
+    s.generation = generation;
+    s.bounce = 1u;
+    s.refreshed = 0u;
+    s.previous_count = 0u;
+    s.snapshot = 0u;
+    s.change = 0.0;
+}
 
 // How records weigh points (Rust: cpu::Weighting).
 struct Weighting {

@@ -19,6 +19,7 @@ crate::shared_constants! {
     IC_LIGHTS: u32 = 14;
     IC_SHADOW_VIEWS: u32 = 15;
     IC_SHADOW_MAP: u32 = 16;
+    IC_PREVIOUS: u32 = 17;
     /// Threads of the tile-selection and reduction workgroups.
     IC_WORKGROUP: u32 = 256;
     /// No candidate in a tile.
@@ -27,6 +28,10 @@ crate::shared_constants! {
     IC_MIN_INVERSE_WEIGHT: f32 = 1e-4;
     /// Ward's "in front" tolerance as a fraction of R (cpu::BEHIND_TOLERANCE).
     IC_BEHIND_TOLERANCE: f32 = 0.05;
+    /// Most bounces a cache computes (`--bounces inf` stops here if not converged before).
+    IC_MAX_BOUNCES: u32 = 32;
+    /// `--bounces inf` stops when Σ E over the records changed by less than this fraction.
+    IC_BOUNCE_TOLERANCE: f32 = 1e-3;
     /// Largest weight a record gives a point.
     IC_MAX_WEIGHT: f32 = 1e4;
     /// Smallest clip w of a splat box's corner (cpu::MIN_CLIP_W).

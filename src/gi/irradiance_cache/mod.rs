@@ -22,6 +22,7 @@ use crate::gi::registry::{MethodEntry, Setup};
 use crate::gi::settings::{Kind, Setting, Settings};
 use crate::gi::{Convergence, FrameContext, GiMethod};
 use crate::gpu::{GpuResult, Recorder};
+use crate::reference::Bounces;
 use passes::Passes;
 use records::CacheState;
 use tables::Coverage;
@@ -76,6 +77,12 @@ const SETTINGS: &[Setting] = &[
         "1",
         "κ in the weight's normal term √(κ(1 - n·n_k)): 1 as Eq. 8.2, 0.2 as the chapter's Alg. 3",
     ),
+    Setting::new(
+        "bounces",
+        Kind::Text,
+        "1",
+        "Bounces of indirect light, 1-32 or inf: past the first, once placement settles, every record is recomputed from hemispheres lit by the previous bounce's cache (inf: until Σ E changes by under 0.1%)",
+    ),
 ];
 
 /// Records `render` and `report` give the placement room for by default (the Cornell box at
@@ -90,11 +97,33 @@ pub const METHODS: &[MethodEntry] = &[MethodEntry {
     settings: SETTINGS,
     settle_frames: |settings| {
         let per_frame = settings.u32("records-per-frame").unwrap_or(1).max(1);
-        SETTLE_RECORDS.div_ceil(per_frame)
+        let bounces = match settings.text("bounces").map(parse_bounces) {
+            Ok(Ok(Bounces::Limited(n))) => n,
+            _ => SETTLE_BOUNCES,
+        };
+        SETTLE_RECORDS.div_ceil(per_frame) * bounces
     },
     profile_axis: None,
     create: |setup, settings| Ok(Box::new(IrradianceCache::new(setup, settings)?)),
 }];
+
+/// Bounces `render` and `report` give `--bounces inf` room for by default (the Cornell box's
+/// Σ E settles to 0.1% after 10).
+const SETTLE_BOUNCES: u32 = 12;
+
+/// `--bounces`: 1 to IC_MAX_BOUNCES, or inf.
+fn parse_bounces(text: &str) -> Result<Bounces, InputError> {
+    match Bounces::parse(text) {
+        Ok(Bounces::Limited(n)) if (1..=bindings::IC_MAX_BOUNCES).contains(&n) => {
+            Ok(Bounces::Limited(n))
+        }
+        Ok(Bounces::Unlimited) => Ok(Bounces::Unlimited),
+        _ => Err(InputError::new(format!(
+            "--bounces {text}: the cache holds 1 to {} bounces, or inf",
+            bindings::IC_MAX_BOUNCES
+        ))),
+    }
+}
 
 /// How records are placed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -114,6 +143,7 @@ pub struct CacheSettings {
     pub placement: Placement,
     pub capacity: u32,
     pub per_frame: u32,
+    pub bounces: Bounces,
 }
 
 impl CacheSettings {
@@ -139,6 +169,7 @@ impl CacheSettings {
             },
             capacity: settings.u32("records")?,
             per_frame: settings.u32("records-per-frame")?,
+            bounces: parse_bounces(settings.text("bounces")?)?,
         })
     }
 }
@@ -177,7 +208,10 @@ impl GiMethod for IrradianceCache {
         self.passes.record_view(rec, ctx, view, &self.settings)
     }
 
-    fn record_light(&mut self, rec: &mut Recorder, _ctx: &FrameContext) -> GpuResult<()> {
+    fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        if self.settings.bounces != Bounces::Limited(1) {
+            self.passes.record_refresh(rec, ctx, &self.settings)?;
+        }
         self.passes.record_state_copy(rec);
         Ok(())
     }
@@ -199,7 +233,7 @@ impl GiMethod for IrradianceCache {
         let state = self.state();
         vec![
             format!(
-                "irradiance cache: a = {}, {} weights, κ = {}, hemisphere {}² ({:?}), {:?} placement, {} records a frame, {} at most",
+                "irradiance cache: a = {}, {} weights, κ = {}, hemisphere {}² ({:?}), {:?} placement, {} records a frame, {} at most, bounces {:?}",
                 s.weighting.accuracy,
                 if s.weighting.smooth { "smooth" } else { "Ward" },
                 s.weighting.normal_factor,
@@ -207,19 +241,34 @@ impl GiMethod for IrradianceCache {
                 s.coverage,
                 s.placement,
                 s.per_frame,
-                s.capacity
+                s.capacity,
+                s.bounces
             ),
             format!(
-                "irradiance cache: {} records, {} uncovered tiles in the last round, {} refused (cache full)",
-                state.count, state.holes, state.overflowed
+                "irradiance cache: {} records, {} uncovered tiles in the last round, {} refused (cache full), bounce {} ({} of {} refreshed, Σ E changed {:.2e})",
+                state.count,
+                state.holes,
+                state.overflowed,
+                state.bounce,
+                state.refreshed,
+                state.previous_count,
+                state.change
             ),
         ]
     }
 
     fn status(&self) -> Option<String> {
         let state = self.state();
+        let bounce = if self.settings.bounces == Bounces::Limited(1) {
+            String::new()
+        } else {
+            format!(
+                ", bounce {} ({}/{} refreshed)",
+                state.bounce, state.refreshed, state.previous_count
+            )
+        };
         Some(format!(
-            "records {} (+{} last round), holes {}{}",
+            "records {} (+{} last round), holes {}{bounce}{}",
             state.count,
             state.end - state.first.min(state.end),
             state.holes,

@@ -10,6 +10,7 @@ use super::records::{CacheState, GpuRecord};
 use super::tables::{HALF_WIDTH, Tables};
 use super::{CacheSettings, Placement};
 use crate::gi::FrameContext;
+use crate::reference::Bounces;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
     ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
@@ -53,6 +54,17 @@ crate::push_constants! {
         far: f32,
         half_width: f32,
         light_count: u32,
+        accuracy: f32,
+        smooth_weight: f32,
+        normal_factor: f32,
+    }
+}
+
+crate::push_constants! {
+    struct BouncePush {
+        generation: u32,
+        bounces: u32,
+        batch: u32,
     }
 }
 
@@ -90,6 +102,8 @@ struct Pipelines {
     reduce: ComputePipeline,
     splat: RasterPipeline,
     normalise: ComputePipeline,
+    bounce: ComputePipeline,
+    snapshot: ComputePipeline,
 }
 
 /// What a view keeps: its splat buffer and one candidate slot per tile of the smallest tiles.
@@ -102,6 +116,8 @@ pub struct Passes {
     pipelines: Pipelines,
     pub records: Buffer,
     pub state: Buffer,
+    /// The previous bounce's records, which light the hemispheres of the next (same layout).
+    pub previous: Buffer,
     state_copy: Buffer,
     tables: Buffer,
     /// The hemispheres of one round's new records, one layer each.
@@ -134,6 +150,8 @@ impl Passes {
             append: compute("ic append", shaders::GI_IRRADIANCE_CACHE_APPEND_COMP)?,
             reduce: compute("ic reduce", shaders::GI_IRRADIANCE_CACHE_REDUCE_COMP)?,
             normalise: compute("ic normalise", shaders::GI_IRRADIANCE_CACHE_NORMALISE_COMP)?,
+            bounce: compute("ic bounce", shaders::GI_IRRADIANCE_CACHE_BOUNCE_COMP)?,
+            snapshot: compute("ic snapshot", shaders::GI_IRRADIANCE_CACHE_SNAPSHOT_COMP)?,
             hemisphere: RasterPipeline::new(
                 gpu,
                 &RasterPipelineDesc {
@@ -196,6 +214,10 @@ impl Passes {
                 u64::from(settings.capacity) * record_bytes,
             ))?,
             state: gpu.create_buffer(&BufferDesc::storage("ic state", state_bytes))?,
+            previous: gpu.create_buffer(&BufferDesc::storage(
+                "ic previous bounce",
+                u64::from(settings.capacity) * record_bytes,
+            ))?,
             state_copy: gpu.create_buffer(&BufferDesc {
                 name: "ic state (host copy)",
                 size: state_bytes,
@@ -352,9 +374,54 @@ impl Passes {
             },
             threads: [1, 1, 1],
         })?;
-        self.record_hemispheres(rec, ctx)?;
+        self.record_hemispheres(rec, ctx, settings)?;
         self.record_reduce(rec, settings)?;
         self.record_splat(rec, view, index, settings, true)
+    }
+
+    /// Rounds of the multiple-bounce refresh (bounce.comp): past the first bounce, records are
+    /// recomputed from hemispheres lit by the snapshot of the previous bounce, as many a frame as
+    /// placement may add.
+    pub fn record_refresh(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        settings: &CacheSettings,
+    ) -> GpuResult<()> {
+        for _ in 0..settings.per_frame.div_ceil(self.batch) {
+            rec.compute(&ComputePass {
+                name: "ic bounce",
+                pipeline: &self.pipelines.bounce,
+                bindings: &[
+                    Binding::read(ids::IC_RECORDS, &self.records),
+                    Binding::read(ids::IC_PREVIOUS, &self.previous),
+                    Binding::write(ids::IC_STATE, &self.state),
+                ],
+                push: &BouncePush {
+                    generation: self.generation,
+                    bounces: match settings.bounces {
+                        Bounces::Limited(n) => n,
+                        Bounces::Unlimited => 0,
+                    },
+                    batch: self.batch,
+                },
+                threads: [1, 1, 1],
+            })?;
+            rec.compute(&ComputePass {
+                name: "ic snapshot",
+                pipeline: &self.pipelines.snapshot,
+                bindings: &[
+                    Binding::read(ids::IC_RECORDS, &self.records),
+                    Binding::write(ids::IC_PREVIOUS, &self.previous),
+                    Binding::read(ids::IC_STATE, &self.state),
+                ],
+                push: &(),
+                threads: [settings.capacity, 1, 1],
+            })?;
+            self.record_hemispheres(rec, ctx, settings)?;
+            self.record_reduce(rec, settings)?;
+        }
+        Ok(())
     }
 
     /// The records `[first, end)` of the cache state from their hemispheres (layer k: record
@@ -380,8 +447,14 @@ impl Passes {
     }
 
     /// Every hemisphere slot of the round (slots past the round's new records draw nothing).
-    fn record_hemispheres(&self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+    fn record_hemispheres(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        settings: &CacheSettings,
+    ) -> GpuResult<()> {
         let scene = ctx.scene;
+        let w = &settings.weighting;
         for slot in 0..self.batch {
             rec.raster(&RasterPass {
                 name: "ic hemisphere",
@@ -396,6 +469,7 @@ impl Passes {
                     Binding::read(ids::IC_LIGHTS, &scene.lights),
                     Binding::read(ids::IC_SHADOW_VIEWS, &scene.shadow_views),
                     Binding::sampled(ids::IC_SHADOW_MAP, ctx.shadow_map, ctx.shadow_sampler),
+                    Binding::read(ids::IC_PREVIOUS, &self.previous),
                 ],
                 push: &HemispherePush {
                     slot,
@@ -403,6 +477,9 @@ impl Passes {
                     far: self.far,
                     half_width: HALF_WIDTH as f32,
                     light_count: scene.light_count,
+                    accuracy: w.accuracy as f32,
+                    smooth_weight: if w.smooth { 1.0 } else { 0.0 },
+                    normal_factor: w.normal_factor as f32,
                 },
                 color: &[(&self.hemisphere, slot, [0.0; 4])],
                 depth: Some((&self.hemisphere_depth, slot)),

@@ -21,7 +21,7 @@ pub struct GpuRecord {
 
 /// The cache's counters (GLSL `CacheState`).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct CacheState {
     pub count: u32,
     pub first: u32,
@@ -34,7 +34,16 @@ pub struct CacheState {
     pub placed: u32,
     /// The generation of the records held: passes of another generation see an empty cache.
     pub generation: u32,
-    pub pad: u32,
+    /// Records `[0, refreshed)` hold this many bounces of light, the others one fewer.
+    pub bounce: u32,
+    /// Records recomputed for `bounce` so far.
+    pub refreshed: u32,
+    /// Records in the snapshot of the previous bounce.
+    pub previous_count: u32,
+    /// 1: this round copies the cache into the snapshot.
+    pub snapshot: u32,
+    /// Relative change of Σ E over the records from the previous bounce (`--bounces inf`).
+    pub change: f32,
 }
 
 fn vec3(v: [f32; 4]) -> DVec3 {
