@@ -412,3 +412,29 @@ fn the_second_bounce_adds_the_snapshot_gathered_over_each_hemisphere() {
     );
     common::assert_no_validation_errors(&gpu);
 }
+
+#[test]
+fn border_stretching_beats_lc04_beats_the_plain_plane_on_the_atrium() {
+    use vkgi::gi::irradiance_cache::coverage_study::{StudySize, coverage_study};
+    let scene = Scene::load("atrium").unwrap();
+    // Table 8.1 at CI size; `cargo bench --bench ic_table81` runs the chapter's 10 000 points.
+    let study = coverage_study(
+        &scene,
+        StudySize {
+            points: 1000,
+            resolution: 64,
+            reference_side: 96,
+            threads: 2,
+        },
+    );
+    let [plane, lc04, stretch] = study.rms;
+    eprintln!(
+        "Table 8.1 over {} points: plane {plane:.4}, lc04 {lc04:.4}, stretch {stretch:.4}",
+        study.points
+    );
+    assert!(study.points > 500, "{} lit points", study.points);
+    assert!(
+        stretch < lc04 && lc04 < plane,
+        "plane {plane}, lc04 {lc04}, stretch {stretch}"
+    );
+}

@@ -502,3 +502,45 @@ fn the_gi_light_is_computed_once_per_frame_however_many_views() {
     assert_eq!(count(&cave_ring, "lpv lookup"), 4.0);
     common::assert_no_validation_errors(&gpu);
 }
+
+/// The irradiance cache's record count and uncovered tiles from the status line in a viewer
+/// profile's notes ("records N (+k last round), holes H...").
+fn cache_status(report: &serde_json::Value) -> (u64, u64) {
+    let notes = report["notes"].as_array().expect("notes");
+    let status = notes
+        .iter()
+        .filter_map(|n| n.as_str())
+        .find(|n| n.starts_with("records "))
+        .expect("the cache's status line");
+    let number_after = |word: &str| -> u64 {
+        let rest = &status[status.find(word).expect(word) + word.len()..];
+        let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+        digits.parse().expect("a count")
+    };
+    (number_after("records "), number_after("holes "))
+}
+
+#[test]
+fn irradiance_cache_records_refine_as_the_camera_moves() {
+    let extra = [
+        "--size",
+        "96x72",
+        "--method",
+        "irradiance-cache",
+        "--hemisphere-size",
+        "16",
+    ];
+    let still = vec!["f5"; 30].join(",");
+    let moving = [vec!["f5"; 10], vec!["w"; 6], vec!["d"; 4], vec!["f5"; 10]].concat();
+    let dir = scratch("ic-still");
+    let (still_count, still_holes) = cache_status(&view_with_keys(&dir, &extra, 30, &still));
+    let dir = scratch("ic-moving");
+    let (moved_count, moved_holes) =
+        cache_status(&view_with_keys(&dir, &extra, 30, &moving.join(",")));
+    assert_eq!(still_holes, 0, "the still view is covered");
+    assert_eq!(moved_holes, 0, "the moved view is covered again");
+    assert!(
+        moved_count > still_count,
+        "moving placed records where the view newly needs them: {moved_count} after moving, {still_count} standing still"
+    );
+}

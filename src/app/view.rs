@@ -849,6 +849,8 @@ impl Running {
     fn shut_down(&mut self, args: &ViewArgs) -> anyhow::Result<()> {
         self.ring.finish()?;
         self.gpu.wait_idle()?;
+        let technique = self.technique.as_deref();
+        runner::add_notes(&self.gpu, &mut self.ring.profiler, &self.frame, technique);
         if let Some(prefix) = &args.screenshot {
             self.screenshot(prefix)?;
         }

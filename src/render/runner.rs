@@ -5,6 +5,7 @@
 use super::frame::Frame;
 use crate::gi::{Follow, GiMethod};
 use crate::gpu::frames::FrameRing;
+use crate::gpu::profiler::Profiler;
 use crate::gpu::{Gpu, GpuResult};
 use crate::scene::Scene;
 use crate::scene::dynamic::Moved;
@@ -40,21 +41,20 @@ pub fn run_frames(
         )?;
     }
     ring.finish()?;
-    add_notes(gpu, &mut ring, frame, gi.map(|g| &*g));
+    add_notes(gpu, &mut ring.profiler, frame, gi.map(|g| &*g));
     Ok(ring)
 }
 
-/// Notes on how the frames ran: the queue plan, the method's description, its parts' plan and
-/// its convergence.
-fn add_notes(gpu: &Gpu, ring: &mut FrameRing, frame: &Frame, gi: Option<&dyn GiMethod>) {
-    ring.profiler
-        .add_note(format!("queue plan: {}", gpu.queues.describe()));
+/// Notes on how the frames ran: the queue plan, the method's description, its parts' plan, its
+/// convergence and its status line.
+pub fn add_notes(gpu: &Gpu, profiler: &mut Profiler, frame: &Frame, gi: Option<&dyn GiMethod>) {
+    profiler.add_note(format!("queue plan: {}", gpu.queues.describe()));
     if let Some(gi) = gi {
         for line in gi.describe() {
-            ring.profiler.add_note(line);
+            profiler.add_note(line);
         }
         if !gi.parts().is_empty() {
-            ring.profiler.add_note(format!(
+            profiler.add_note(format!(
                 "{} independent parts ({}): {:?} plan",
                 gi.parts().len(),
                 gi.parts().join(", "),
@@ -62,11 +62,10 @@ fn add_notes(gpu: &Gpu, ring: &mut FrameRing, frame: &Frame, gi: Option<&dyn GiM
             ));
         }
         if let Some(c) = gi.convergence() {
-            ring.profiler
-                .add_note(format!("convergence: {} {:.3e}", c.measure, c.remaining));
+            profiler.add_note(format!("convergence: {} {:.3e}", c.measure, c.remaining));
         }
         if let Some(status) = gi.status() {
-            ring.profiler.add_note(status);
+            profiler.add_note(status);
         }
     }
 }
@@ -104,7 +103,7 @@ pub fn run_animation(
         )?;
     }
     ring.finish()?;
-    add_notes(gpu, &mut ring, frame, gi.map(|g| &**g));
+    add_notes(gpu, &mut ring.profiler, frame, gi.map(|g| &**g));
     Ok(ring)
 }
 

@@ -12,6 +12,7 @@
 //! the camera moves and are dropped when lights or geometry change.
 
 pub mod bindings;
+pub mod coverage_study;
 pub mod cpu;
 pub mod passes;
 pub mod records;

@@ -1,0 +1,185 @@
+//! Table 8.1 of the chapter regenerated (spec 003 §14): how far each way of covering the
+//! directions a record's 126.87° plane misses (plane, [LC04], border stretching) puts its
+//! irradiance from a stratified integral over the whole hemisphere (`reference_side`² cosine-
+//! weighted directions, one at each stratum's centre), at surface points the scene's camera
+//! sees (a square image, pixels drawn at random).
+//!
+//! The radiance field is the hemisphere pass's: direct light × albedo / π at the visible
+//! surface, emission excluded, with exact visibility (a shadow ray per light) in place of shadow
+//! maps. Hemispheres are sampled through their texel centres as the rasteriser samples them
+//! (tests/irradiance_cache.rs holds the GPU's hemispheres to that sampling) and reduced with the
+//! same tables as the GPU.
+
+use glam::{DVec3, Vec2};
+
+use super::cpu;
+use super::tables::{Coverage, Tables};
+use crate::reference::rng::random_float;
+use crate::scene::bvh::Bvh;
+use crate::scene::{Light, Scene};
+
+/// The coverages in the order of Table 8.1's columns.
+pub const COLUMNS: [Coverage; 3] = [Coverage::Plane, Coverage::Lc04, Coverage::Stretch];
+
+/// What the study measured.
+#[derive(Clone, Debug)]
+pub struct CoverageStudy {
+    /// Points whose reference irradiance was above zero (the others are skipped).
+    pub points: usize,
+    /// Relative RMS error of Σ_channels E against the reference, per coverage in `COLUMNS` order.
+    pub rms: [f64; 3],
+}
+
+/// The study's sizes.
+#[derive(Clone, Copy, Debug)]
+pub struct StudySize {
+    /// Camera pixels drawn (the chapter: 10 000).
+    pub points: usize,
+    /// Side of the hemisphere image (the chapter: 64).
+    pub resolution: usize,
+    /// The reference takes side² stratified cosine-weighted directions.
+    pub reference_side: usize,
+    /// Threads sharing the points.
+    pub threads: usize,
+}
+
+/// Run the study on `scene` (lit by its lights; area lights by their raster samples).
+pub fn coverage_study(scene: &Scene, size: StudySize) -> CoverageStudy {
+    let bvh = Bvh::build(&scene.mesh);
+    let field = Field {
+        scene,
+        bvh: &bvh,
+        lights: scene.raster_lights(),
+        near: 1e-4 * f64::from((scene.bounds_max - scene.bounds_min).length()),
+    };
+    let tables = COLUMNS.map(|c| Tables::new(size.resolution, c));
+    let threads = size.threads.max(1);
+    let sums: Vec<([f64; 3], usize)> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..threads)
+            .map(|t| {
+                let (field, tables) = (&field, &tables);
+                s.spawn(move || {
+                    let mut sums = ([0.0; 3], 0usize);
+                    for i in (t..size.points).step_by(threads) {
+                        let Some((p, n)) = field.camera_point(i as u32) else {
+                            continue;
+                        };
+                        let Some(errors) = field.relative_errors(p, n, tables, size) else {
+                            continue;
+                        };
+                        for (sum, e) in sums.0.iter_mut().zip(errors) {
+                            *sum += e * e;
+                        }
+                        sums.1 += 1;
+                    }
+                    sums
+                })
+            })
+            .collect();
+        workers.into_iter().map(|w| w.join().unwrap()).collect()
+    });
+    let points: usize = sums.iter().map(|s| s.1).sum();
+    let rms = [0, 1, 2].map(|c| {
+        let total: f64 = sums.iter().map(|s| s.0[c]).sum();
+        (total / points.max(1) as f64).sqrt()
+    });
+    CoverageStudy { points, rms }
+}
+
+/// The scene as a record's hemisphere sees it.
+struct Field<'a> {
+    scene: &'a Scene,
+    bvh: &'a Bvh,
+    lights: Vec<Light>,
+    /// The hemisphere camera's offset above the record and its near plane (as the GPU's).
+    near: f64,
+}
+
+impl Field<'_> {
+    /// The surface point and camera-facing normal seen through random pixel `i` of a square
+    /// image, if any.
+    fn camera_point(&self, i: u32) -> Option<(DVec3, DVec3)> {
+        const SIDE: u32 = 1000;
+        let camera = &self.scene.camera;
+        let pixel = Vec2::new(
+            random_float(0x7ab1e81, i, 0, 0) * SIDE as f32,
+            random_float(0x7ab1e81, i, 0, 1) * SIDE as f32,
+        );
+        let dir = camera.ray_direction(pixel, SIDE, SIDE);
+        let (p, n, _) = self.hit(camera.position.as_dvec3(), dir.as_dvec3(), 0.0)?;
+        Some((p, n))
+    }
+
+    /// The closest surface along a ray past `t_min`: its point, normal facing the ray's origin,
+    /// and the radiance it reflects (direct light × albedo / π).
+    fn hit(&self, origin: DVec3, dir: DVec3, t_min: f64) -> Option<(DVec3, DVec3, [f64; 3])> {
+        let mesh = &self.scene.mesh;
+        let hit = self
+            .bvh
+            .intersect(mesh, origin.as_vec3(), dir.as_vec3(), t_min as f32, 1e30)?;
+        let face = mesh.face_normal(hit.triangle).as_dvec3();
+        let facing = if face.dot(dir) <= 0.0 { 1.0 } else { -1.0 };
+        let mut n = mesh.shading_normal(hit.triangle, hit.uv).as_dvec3() * facing;
+        if n.dot(face * facing) <= 0.0 {
+            n = face * facing;
+        }
+        let p = origin + dir * f64::from(hit.t);
+        let albedo = self.scene.albedo(hit.triangle, hit.uv).as_dvec3();
+        let e = self.direct_irradiance(p, n, face * facing);
+        let l = [0, 1, 2].map(|c| albedo[c] * e[c] / std::f64::consts::PI);
+        Some((p, n, l))
+    }
+
+    /// Direct irradiance at `p` from every light it sees (a shadow ray each).
+    fn direct_irradiance(&self, p: DVec3, n: DVec3, face: DVec3) -> DVec3 {
+        let origin = p + face * self.near;
+        let mut e = DVec3::ZERO;
+        for light in &self.lights {
+            let incident = light.irradiance_at(p.as_vec3(), n.as_vec3()).as_dvec3();
+            if incident == DVec3::ZERO {
+                continue;
+            }
+            let to_light = light.position.as_dvec3() - origin;
+            let distance = to_light.length();
+            let blocked = self.bvh.intersect(
+                &self.scene.mesh,
+                origin.as_vec3(),
+                (to_light / distance).as_vec3(),
+                0.0,
+                (distance * (1.0 - 1e-6)) as f32,
+            );
+            if blocked.is_none() {
+                e += incident;
+            }
+        }
+        e
+    }
+
+    /// Per coverage, the relative error of the record's Σ_channels E at `p`, `n` against the
+    /// Monte-Carlo reference; None where the reference is zero.
+    fn relative_errors(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        tables: &[Tables; 3],
+        size: StudySize,
+    ) -> Option<[f64; 3]> {
+        let origin = p + n * self.near;
+        // The hemisphere camera clips at depth `near` along the normal.
+        let trace = |o: DVec3, dir: DVec3| {
+            let t_min = self.near / dir.dot(n).max(1e-9);
+            self.hit(o, dir, t_min)
+                .map(|(q, _, l)| (l, (q - o).length()))
+        };
+        let reference = cpu::integrate_hemisphere(size.reference_side, origin, n, &trace);
+        let reference: f64 = reference.iter().sum();
+        if !(reference > 0.0) {
+            return None;
+        }
+        let hemisphere = cpu::sample_hemisphere(size.resolution, origin, n, &trace);
+        Some(tables.each_ref().map(|t| {
+            let e: f64 = cpu::reduce(t, &hemisphere, p, n).irradiance.iter().sum();
+            (e - reference) / reference
+        }))
+    }
+}
