@@ -35,8 +35,10 @@ fn main() {
         start.elapsed().as_secs_f64()
     );
     println!("|---|---|---|---|");
+    let percent = |v: [f64; 3]| v.map(|r| format!("{:.1}%", 100.0 * r)).join(" | ");
+    println!("| {} | RMS of relative errors |", percent(study.rms));
     println!(
-        "| {} | relative RMS |",
-        study.rms.map(|r| format!("{:.1}%", 100.0 * r)).join(" | ")
+        "| {} | RMS error over mean E |",
+        percent(study.normalised_rms)
     );
 }

@@ -427,12 +427,15 @@ fn border_stretching_beats_lc04_beats_the_plain_plane_on_the_atrium() {
             threads: 2,
         },
     );
-    let [plane, lc04, stretch] = study.rms;
-    eprintln!(
-        "Table 8.1 over {} points: plane {plane:.4}, lc04 {lc04:.4}, stretch {stretch:.4}",
-        study.points
-    );
     assert!(study.points > 500, "{} lit points", study.points);
+    eprintln!(
+        "Table 8.1 over {} points, RMS of relative errors: {:?}",
+        study.points, study.rms
+    );
+    // The ladder is asserted on RMS error over the mean E (which reproduces the chapter's
+    // values); per-point relative errors are dominated by a few dark points.
+    let [plane, lc04, stretch] = study.normalised_rms;
+    eprintln!("RMS error over mean E: plane {plane:.4}, lc04 {lc04:.4}, stretch {stretch:.4}");
     assert!(
         stretch < lc04 && lc04 < plane,
         "plane {plane}, lc04 {lc04}, stretch {stretch}"

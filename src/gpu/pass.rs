@@ -32,6 +32,8 @@ pub enum Access {
     TransferRead,
     TransferWrite,
     HostRead,
+    /// Draw parameters read by an indirect draw.
+    IndirectRead,
 }
 
 impl Access {
@@ -72,6 +74,7 @@ impl Access {
             Access::TransferRead => (S::ALL_TRANSFER, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL),
             Access::TransferWrite => (S::ALL_TRANSFER, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL),
             Access::HostRead => (S::HOST, A::HOST_READ, L::GENERAL),
+            Access::IndirectRead => (S::DRAW_INDIRECT, A::INDIRECT_COMMAND_READ, L::GENERAL),
         }
     }
 
@@ -249,8 +252,17 @@ pub struct ComputePass<'p> {
     pub threads: [u32; 3],
 }
 
-/// A draw of `vertex_count` pulled vertices into colour and depth attachments, cleared first
-/// unless `keep_contents` says to draw over what they hold.
+/// What a raster pass draws: pulled vertices, no vertex buffers.
+#[derive(Clone, Copy)]
+pub enum Draw<'p> {
+    /// This many vertices (none: the attachments are only cleared).
+    Vertices(u32),
+    /// The `VkDrawIndirectCommand` at byte `offset` of `buffer`, written by an earlier pass.
+    Indirect { buffer: &'p Buffer, offset: u64 },
+}
+
+/// A draw into colour and depth attachments, cleared first unless `keep_contents` says to draw
+/// over what they hold.
 pub struct RasterPass<'p> {
     /// The pass, without part, step or layer (the recorder's context adds those).
     pub name: &'static str,
@@ -261,7 +273,7 @@ pub struct RasterPass<'p> {
     pub color: &'p [(&'p Image, u32, [f32; 4])],
     /// Depth attachment and the layer rendered into.
     pub depth: Option<(&'p Image, u32)>,
-    pub vertex_count: u32,
+    pub draw: Draw<'p>,
     /// Keep the attachments' contents (the clear values are then unused).
     pub keep_contents: bool,
 }
@@ -704,6 +716,9 @@ impl<'a> Recorder<'a> {
         if let Some((image, _)) = pass.depth {
             accesses.push((Resource::Image(image), Access::DepthAttachment));
         }
+        if let Draw::Indirect { buffer, .. } = pass.draw {
+            accesses.push((Resource::Buffer(buffer), Access::IndirectRead));
+        }
         self.sync(&accesses);
 
         let load_op = if pass.keep_contents {
@@ -768,8 +783,12 @@ impl<'a> Recorder<'a> {
         unsafe {
             device.cmd_set_viewport(self.cmd, 0, &[viewport]);
             device.cmd_set_scissor(self.cmd, 0, &[area]);
-            if pass.vertex_count > 0 {
-                device.cmd_draw(self.cmd, pass.vertex_count, 1, 0, 0);
+            match pass.draw {
+                Draw::Vertices(0) => {}
+                Draw::Vertices(count) => device.cmd_draw(self.cmd, count, 1, 0, 0),
+                Draw::Indirect { buffer, offset } => {
+                    device.cmd_draw_indirect(self.cmd, buffer.raw, offset, 1, 0)
+                }
             }
             device.cmd_end_rendering(self.cmd);
         }

@@ -5,7 +5,7 @@ use ash::vk;
 
 use super::targets::{GBUFFER_FORMATS, View};
 use crate::gpu::{
-    Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, RasterPass, RasterPipeline,
+    Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder, Sampler, Specialization,
 };
 use crate::scene::gpu::SceneBuffers;
@@ -107,7 +107,7 @@ impl ScenePasses {
                 push: &push,
                 color: &[],
                 depth: Some((shadow_map, layer as u32)),
-                vertex_count: scene.vertex_count,
+                draw: Draw::Vertices(scene.vertex_count),
                 keep_contents: false,
             })?;
         }
@@ -143,7 +143,7 @@ impl ScenePasses {
                 (&g.emission, 0, [0.0; 4]),
             ],
             depth: Some((&g.depth, 0)),
-            vertex_count: scene.vertex_count,
+            draw: Draw::Vertices(scene.vertex_count),
             keep_contents: false,
         })
     }

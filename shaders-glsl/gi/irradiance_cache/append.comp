@@ -5,6 +5,7 @@
 // fill in the rest. A full cache refuses candidates and counts them (the overflow policy:
 // coverage stops growing, nothing is overwritten).
 #include "gi/irradiance_cache/ic.glsl"
+#include "gi/irradiance_cache/draws.glsl"
 
 layout(local_size_x = 1) in;
 
@@ -21,6 +22,7 @@ layout(push_constant) uniform Push {
     uint batch;
     uint capacity;
     uint generation;   // records of another generation are gone (lights or geometry changed)
+    uint scene_vertices;
 } pc;
 
 void main() {
@@ -63,4 +65,5 @@ void main() {
         ++seen;
     }
     state.count = count + take;
+    write_hemisphere_draws(take, pc.batch, pc.scene_vertices);
 }

@@ -7,6 +7,7 @@
 // snapshot.comp. Records placed during a refresh are shaded from the snapshot too, so they hold
 // the new bounce already. One thread.
 #include "gi/irradiance_cache/ic.glsl"
+#include "gi/irradiance_cache/draws.glsl"
 
 layout(local_size_x = 1) in;
 
@@ -18,6 +19,7 @@ layout(push_constant) uniform Push {
     uint generation;
     uint bounces;  // bounces asked for; 0: until Σ E changes by less than IC_BOUNCE_TOLERANCE
     uint batch;
+    uint scene_vertices;
 } pc;
 
 // Relative change of Σ E (all channels) over the snapshot's records, from the snapshot to now.
@@ -60,4 +62,5 @@ void main() {
         state.end = min(state.refreshed + pc.batch, state.previous_count);
         state.refreshed = state.end;
     }
+    write_hemisphere_draws(state.end - state.first, pc.batch, pc.scene_vertices);
 }

@@ -2,7 +2,7 @@
 // GPU hemisphere sampling (spec 003 §6, §17): the scene seen from a record this round added, by
 // a perspective camera on the record looking along its normal with tan(fov/2) = 2 (126.87°),
 // its x along the basis's tangent and y along the bitangent (src/gi/irradiance_cache/tables.rs).
-// Slots past the round's records draw nothing.
+// Slots past the round's records draw nothing (draws.glsl).
 #include "common/scene.glsl"
 #include "common/sampling.glsl"
 #include "gi/irradiance_cache/ic.glsl"
@@ -31,12 +31,7 @@ layout(location = 4) out vec2 out_texcoord;
 layout(location = 5) flat out vec3 out_eye;
 
 void main() {
-    uint index = state.first + pc.slot;
-    if (index >= state.end) {
-        gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
-        return;
-    }
-    Record record = records[index];
+    Record record = records[state.first + pc.slot];
     Triangle triangle = triangles[gl_VertexIndex / 3];
     uint corner = triangle[gl_VertexIndex % 3];
     vec3 a = vertices[triangle.x].position.xyz;

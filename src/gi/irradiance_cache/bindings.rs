@@ -20,6 +20,7 @@ crate::shared_constants! {
     IC_SHADOW_VIEWS: u32 = 15;
     IC_SHADOW_MAP: u32 = 16;
     IC_PREVIOUS: u32 = 17;
+    IC_DRAWS: u32 = 18;
     /// Threads of the tile-selection and reduction workgroups.
     IC_WORKGROUP: u32 = 256;
     /// No candidate in a tile.

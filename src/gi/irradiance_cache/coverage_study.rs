@@ -26,8 +26,20 @@ pub const COLUMNS: [Coverage; 3] = [Coverage::Plane, Coverage::Lc04, Coverage::S
 pub struct CoverageStudy {
     /// Points whose reference irradiance was above zero (the others are skipped).
     pub points: usize,
-    /// Relative RMS error of Σ_channels E against the reference, per coverage in `COLUMNS` order.
+    /// RMS of each point's relative error of Σ_channels E against the reference, per coverage
+    /// in `COLUMNS` order.
     pub rms: [f64; 3],
+    /// RMS of the absolute errors over the mean reference E (bright points weigh more).
+    pub normalised_rms: [f64; 3],
+}
+
+/// One thread's sums.
+#[derive(Default)]
+struct Sums {
+    relative: [f64; 3],
+    absolute: [f64; 3],
+    reference: f64,
+    points: usize,
 }
 
 /// The study's sizes.
@@ -54,23 +66,26 @@ pub fn coverage_study(scene: &Scene, size: StudySize) -> CoverageStudy {
     };
     let tables = COLUMNS.map(|c| Tables::new(size.resolution, c));
     let threads = size.threads.max(1);
-    let sums: Vec<([f64; 3], usize)> = std::thread::scope(|s| {
+    let sums: Vec<Sums> = std::thread::scope(|s| {
         let workers: Vec<_> = (0..threads)
             .map(|t| {
                 let (field, tables) = (&field, &tables);
                 s.spawn(move || {
-                    let mut sums = ([0.0; 3], 0usize);
+                    let mut sums = Sums::default();
                     for i in (t..size.points).step_by(threads) {
                         let Some((p, n)) = field.camera_point(i as u32) else {
                             continue;
                         };
-                        let Some(errors) = field.relative_errors(p, n, tables, size) else {
+                        let Some((reference, e)) = field.irradiances(p, n, tables, size) else {
                             continue;
                         };
-                        for (sum, e) in sums.0.iter_mut().zip(errors) {
-                            *sum += e * e;
+                        for (c, e) in e.into_iter().enumerate() {
+                            let error = e - reference;
+                            sums.absolute[c] += error * error;
+                            sums.relative[c] += (error / reference).powi(2);
                         }
-                        sums.1 += 1;
+                        sums.reference += reference;
+                        sums.points += 1;
                     }
                     sums
                 })
@@ -78,12 +93,16 @@ pub fn coverage_study(scene: &Scene, size: StudySize) -> CoverageStudy {
             .collect();
         workers.into_iter().map(|w| w.join().unwrap()).collect()
     });
-    let points: usize = sums.iter().map(|s| s.1).sum();
-    let rms = [0, 1, 2].map(|c| {
-        let total: f64 = sums.iter().map(|s| s.0[c]).sum();
-        (total / points.max(1) as f64).sqrt()
-    });
-    CoverageStudy { points, rms }
+    let points: usize = sums.iter().map(|s| s.points).sum();
+    let n = points.max(1) as f64;
+    let mean_reference = sums.iter().map(|s| s.reference).sum::<f64>() / n;
+    let total = |part: fn(&Sums) -> &[f64; 3], c: usize| sums.iter().map(|s| part(s)[c]).sum::<f64>();
+    CoverageStudy {
+        points,
+        rms: [0, 1, 2].map(|c| (total(|s| &s.relative, c) / n).sqrt()),
+        normalised_rms: [0, 1, 2]
+            .map(|c| (total(|s| &s.absolute, c) / n).sqrt() / mean_reference.max(f64::MIN_POSITIVE)),
+    }
 }
 
 /// The scene as a record's hemisphere sees it.
@@ -155,15 +174,15 @@ impl Field<'_> {
         e
     }
 
-    /// Per coverage, the relative error of the record's Σ_channels E at `p`, `n` against the
-    /// Monte-Carlo reference; None where the reference is zero.
-    fn relative_errors(
+    /// The reference Σ_channels E at `p`, `n` and the record's under each coverage; None where
+    /// the reference is zero.
+    fn irradiances(
         &self,
         p: DVec3,
         n: DVec3,
         tables: &[Tables; 3],
         size: StudySize,
-    ) -> Option<[f64; 3]> {
+    ) -> Option<(f64, [f64; 3])> {
         let origin = p + n * self.near;
         // The hemisphere camera clips at depth `near` along the normal.
         let trace = |o: DVec3, dir: DVec3| {
@@ -173,13 +192,13 @@ impl Field<'_> {
         };
         let reference = cpu::integrate_hemisphere(size.reference_side, origin, n, &trace);
         let reference: f64 = reference.iter().sum();
-        if !(reference > 0.0) {
+        if reference.is_nan() || reference <= 0.0 {
             return None;
         }
         let hemisphere = cpu::sample_hemisphere(size.resolution, origin, n, &trace);
-        Some(tables.each_ref().map(|t| {
-            let e: f64 = cpu::reduce(t, &hemisphere, p, n).irradiance.iter().sum();
-            (e - reference) / reference
-        }))
+        let e = tables
+            .each_ref()
+            .map(|t| cpu::reduce(t, &hemisphere, p, n).irradiance.iter().sum());
+        Some((reference, e))
     }
 }

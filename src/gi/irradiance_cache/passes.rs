@@ -12,7 +12,7 @@ use super::{CacheSettings, Placement};
 use crate::gi::FrameContext;
 use crate::reference::Bounces;
 use crate::gpu::{
-    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
+    Binding, Draw, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
     ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
 };
 use crate::render::targets::View;
@@ -23,6 +23,8 @@ use crate::shaders;
 pub const TILE_ROUNDS: [u32; 3] = [32, 16, 8];
 /// A record's zone a·R spans at least and at most this many view pixels where it was placed.
 pub const ZONE_PIXELS: [f32; 2] = [3.0, 64.0];
+/// Size of a `VkDrawIndirectCommand`.
+const DRAW_COMMAND_BYTES: u64 = 16;
 /// Format of the splat buffer: Σ w E' (rgb), Σ w.
 const SPLAT_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
@@ -44,6 +46,7 @@ crate::push_constants! {
         batch: u32,
         capacity: u32,
         generation: u32,
+        scene_vertices: u32,
     }
 }
 
@@ -65,6 +68,7 @@ crate::push_constants! {
         generation: u32,
         bounces: u32,
         batch: u32,
+        scene_vertices: u32,
     }
 }
 
@@ -118,6 +122,8 @@ pub struct Passes {
     pub state: Buffer,
     /// The previous bounce's records, which light the hemispheres of the next (same layout).
     pub previous: Buffer,
+    /// The hemisphere slots' indirect draws (draws.glsl).
+    draws: Buffer,
     state_copy: Buffer,
     tables: Buffer,
     /// The hemispheres of one round's new records, one layer each.
@@ -218,6 +224,15 @@ impl Passes {
                 "ic previous bounce",
                 u64::from(settings.capacity) * record_bytes,
             ))?,
+            draws: gpu.create_buffer(&BufferDesc {
+                usage: vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::INDIRECT_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_DST,
+                ..BufferDesc::storage(
+                    "ic hemisphere draws",
+                    u64::from(batch) * DRAW_COMMAND_BYTES,
+                )
+            })?,
             state_copy: gpu.create_buffer(&BufferDesc {
                 name: "ic state (host copy)",
                 size: state_bytes,
@@ -235,6 +250,7 @@ impl Passes {
         };
         gpu.one_shot(|rec| {
             rec.fill_buffer("ic state start", &passes.state, 0);
+            rec.fill_buffer("ic draws start", &passes.draws, 0);
             Ok(())
         })?;
         Ok(passes)
@@ -363,6 +379,7 @@ impl Passes {
                 Binding::read(ids::IC_CANDIDATES, &state.candidates),
                 Binding::write(ids::IC_RECORDS, &self.records),
                 Binding::write(ids::IC_STATE, &self.state),
+                Binding::write(ids::IC_DRAWS, &self.draws),
             ],
             push: &AppendPush {
                 eye: view.eye.position.extend(pixel_angle).to_array(),
@@ -371,6 +388,7 @@ impl Passes {
                 batch: self.batch,
                 capacity: settings.capacity,
                 generation: self.generation,
+                scene_vertices: ctx.scene.vertex_count,
             },
             threads: [1, 1, 1],
         })?;
@@ -396,6 +414,7 @@ impl Passes {
                     Binding::read(ids::IC_RECORDS, &self.records),
                     Binding::read(ids::IC_PREVIOUS, &self.previous),
                     Binding::write(ids::IC_STATE, &self.state),
+                    Binding::write(ids::IC_DRAWS, &self.draws),
                 ],
                 push: &BouncePush {
                     generation: self.generation,
@@ -404,6 +423,7 @@ impl Passes {
                         Bounces::Unlimited => 0,
                     },
                     batch: self.batch,
+                    scene_vertices: ctx.scene.vertex_count,
                 },
                 threads: [1, 1, 1],
             })?;
@@ -446,7 +466,8 @@ impl Passes {
         })
     }
 
-    /// Every hemisphere slot of the round (slots past the round's new records draw nothing).
+    /// Every hemisphere slot of the round (slots past the round's new records draw nothing:
+    /// their indirect draws, written by the append or bounce pass, have no vertices).
     fn record_hemispheres(
         &self,
         rec: &mut Recorder,
@@ -483,7 +504,10 @@ impl Passes {
                 },
                 color: &[(&self.hemisphere, slot, [0.0; 4])],
                 depth: Some((&self.hemisphere_depth, slot)),
-                vertex_count: scene.vertex_count,
+                draw: Draw::Indirect {
+                    buffer: &self.draws,
+                    offset: u64::from(slot) * DRAW_COMMAND_BYTES,
+                },
                 keep_contents: false,
             })?;
         }
@@ -526,7 +550,7 @@ impl Passes {
             },
             color: &[(&self.views[index].splat, 0, [0.0; 4])],
             depth: None,
-            vertex_count: 6 * quads,
+            draw: Draw::Vertices(6 * quads),
             keep_contents: round_only,
         })
     }

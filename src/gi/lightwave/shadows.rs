@@ -12,7 +12,7 @@ use super::cpu::rig_axis;
 use super::rig::Rig;
 use crate::gi::FrameContext;
 use crate::gpu::{
-    Binding, Buffer, BufferDesc, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
+    Binding, Draw, Buffer, BufferDesc, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder,
 };
 use crate::render::targets::MAX_RESOURCE_BYTES;
@@ -149,7 +149,7 @@ impl VplShadows {
                     push: &push,
                     color: &[],
                     depth: Some((image, layer as u32)),
-                    vertex_count: s.vertex_count,
+                    draw: Draw::Vertices(s.vertex_count),
                     keep_contents: false,
                 })
             })?;

@@ -15,7 +15,7 @@ use super::camera::CameraView;
 use super::elements::{Elements, NO_SURFACE};
 use super::table::StoredTable;
 use crate::gpu::{
-    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
+    Binding, Draw, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
     RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
 };
 use crate::scene::{Light, LightKind, Scene};
@@ -660,7 +660,7 @@ impl Solver {
                 (&self.item_distance, face, [f32::MAX; 4]),
             ],
             depth: Some((&self.item_depth, face)),
-            vertex_count: self.item_vertex_count,
+            draw: Draw::Vertices(self.item_vertex_count),
             keep_contents: false,
         })
     }

@@ -6,8 +6,8 @@ use ash::vk;
 use super::bindings as ids;
 use crate::gi::FrameContext;
 use crate::gpu::{
-    Binding, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc,
-    Recorder,
+    Binding, Draw, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
+    RasterPipelineDesc, Recorder,
 };
 use crate::render::targets::check_layered_image;
 use crate::scene::Scene;
@@ -126,7 +126,7 @@ impl Rsm {
                         (&self.flux, layer, [0.0; 4]),
                     ],
                     depth: Some((&self.depth, 0)),
-                    vertex_count: s.vertex_count,
+                    draw: Draw::Vertices(s.vertex_count),
                     keep_contents: false,
                 })
             })?;

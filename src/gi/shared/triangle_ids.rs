@@ -6,8 +6,8 @@ use ash::vk;
 
 use crate::gi::FrameContext;
 use crate::gpu::{
-    Binding, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc,
-    Recorder,
+    Binding, Draw, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
+    RasterPipelineDesc, Recorder,
 };
 use crate::render::targets::View;
 use crate::shader_shared::{RASTER_TRIANGLES, RASTER_VERTICES};
@@ -74,7 +74,7 @@ impl TriangleIds {
             },
             color: &[(&targets.ids, 0, [0.0; 4])],
             depth: Some((&targets.depth, 0)),
-            vertex_count: ctx.scene.vertex_count,
+            draw: Draw::Vertices(ctx.scene.vertex_count),
             keep_contents: false,
         })
     }
