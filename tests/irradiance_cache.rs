@@ -349,31 +349,27 @@ fn the_second_bounce_adds_the_snapshot_gathered_over_each_hemisphere() {
     // Each record's second bounce, recomputed on the CPU: its hemisphere traced through the BVH,
     // every texel's surface lit by the snapshot's gathered irradiance × albedo / π, reduced with
     // the same tables; the GPU's E rises by that much.
-    let mesh = &scene.mesh;
-    let bvh = Bvh::build(mesh);
+    let bvh = Bvh::build(&scene.mesh);
     let tables = Tables::new(s.hemisphere_size as usize, s.coverage);
     let diagonal = f64::from((scene.bounds_max - scene.bounds_min).length());
     let near = diagonal * 1e-4;
     // The hemisphere camera clips at depth `near` along the record's normal.
     let trace = |origin: DVec3, dir: DVec3, normal: DVec3| {
         let t_min = near / dir.dot(normal);
-        let hit = bvh.intersect(mesh, origin.as_vec3(), dir.as_vec3(), t_min as f32, 1e30)?;
-        let face = mesh.face_normal(hit.triangle).as_dvec3();
-        let facing = if face.dot(dir) <= 0.0 { 1.0 } else { -1.0 };
-        let mut n = mesh.shading_normal(hit.triangle, hit.uv).as_dvec3() * facing;
-        if n.dot(face * facing) <= 0.0 {
-            n = face * facing;
-        }
-        let p = origin + dir * f64::from(hit.t);
-        let albedo = scene.albedo(hit.triangle, hit.uv).as_dvec3();
-        let (sum, weight) = cpu::gather(&first_bounce, &s.weighting, p, n);
+        let surface = cpu::visible_surface(&scene, &bvh, origin, dir, t_min)?;
+        let (sum, weight) = cpu::gather(
+            &first_bounce,
+            &s.weighting,
+            surface.position,
+            surface.normal,
+        );
         let e = if weight > 0.0 {
             sum.map(|v| v / weight)
         } else {
             [0.0; 3]
         };
-        let l = [0, 1, 2].map(|c| albedo[c] * e[c] / std::f64::consts::PI);
-        Some((l, f64::from(hit.t)))
+        let l = [0, 1, 2].map(|c| surface.albedo[c] * e[c] / std::f64::consts::PI);
+        Some((l, surface.distance))
     };
     let mut errors = Vec::new();
     for (k, (second, first)) in records.iter().zip(&first_bounce).enumerate() {

@@ -132,21 +132,10 @@ impl Field<'_> {
     /// The closest surface along a ray past `t_min`: its point, normal facing the ray's origin,
     /// and the radiance it reflects (direct light × albedo / π).
     fn hit(&self, origin: DVec3, dir: DVec3, t_min: f64) -> Option<(DVec3, DVec3, [f64; 3])> {
-        let mesh = &self.scene.mesh;
-        let hit = self
-            .bvh
-            .intersect(mesh, origin.as_vec3(), dir.as_vec3(), t_min as f32, 1e30)?;
-        let face = mesh.face_normal(hit.triangle).as_dvec3();
-        let facing = if face.dot(dir) <= 0.0 { 1.0 } else { -1.0 };
-        let mut n = mesh.shading_normal(hit.triangle, hit.uv).as_dvec3() * facing;
-        if n.dot(face * facing) <= 0.0 {
-            n = face * facing;
-        }
-        let p = origin + dir * f64::from(hit.t);
-        let albedo = self.scene.albedo(hit.triangle, hit.uv).as_dvec3();
-        let e = self.direct_irradiance(p, n, face * facing);
-        let l = [0, 1, 2].map(|c| albedo[c] * e[c] / std::f64::consts::PI);
-        Some((p, n, l))
+        let surface = cpu::visible_surface(self.scene, self.bvh, origin, dir, t_min)?;
+        let e = self.direct_irradiance(surface.position, surface.normal, surface.face);
+        let l = [0, 1, 2].map(|c| surface.albedo[c] * e[c] / std::f64::consts::PI);
+        Some((surface.position, surface.normal, l))
     }
 
     /// Direct irradiance at `p` from every light it sees (a shadow ray each).

@@ -2,13 +2,15 @@
 //! reduction from its hemisphere (E, gradients, harmonic mean distance), Ward's weight and the
 //! gradient extrapolation of a record at a point, the brute-force gather the splat must equal,
 //! and the conservative screen bounds of a record's sphere of influence. Also the hemisphere
-//! itself sampled by a caller's ray cast, and a brute-force integral over the whole hemisphere
-//! for the gradient and Table 8.1 tests.
+//! itself sampled by a caller's ray cast, the surface a hemisphere texel sees, and a
+//! brute-force integral over the whole hemisphere for the gradient and Table 8.1 tests.
 
 use glam::{DMat4, DVec3, DVec4};
 
 use super::bindings as ids;
 use super::tables::{self, Tables};
+use crate::scene::Scene;
+use crate::scene::bvh::Bvh;
 
 /// Smallest inverse weight (spec 003 Alg. 3 EPSILON): the weight is infinite at the record.
 pub const MIN_INVERSE_WEIGHT: f64 = ids::IC_MIN_INVERSE_WEIGHT as f64;
@@ -154,6 +156,42 @@ pub fn sample_hemisphere(
         }
     }
     Hemisphere { radiance, distance }
+}
+
+/// The surface a hemisphere texel sees, as hemisphere.frag shades it.
+pub struct VisibleSurface {
+    pub position: DVec3,
+    /// The shading normal, turned to face the ray's origin (the face normal where it leans
+    /// the other way).
+    pub normal: DVec3,
+    /// The face normal, facing the ray's origin.
+    pub face: DVec3,
+    pub albedo: DVec3,
+    pub distance: f64,
+}
+
+/// The closest surface along a ray past `t_min` through the scene's BVH.
+pub fn visible_surface(
+    scene: &Scene,
+    bvh: &Bvh,
+    origin: DVec3,
+    dir: DVec3,
+    t_min: f64,
+) -> Option<VisibleSurface> {
+    let mesh = &scene.mesh;
+    let hit = bvh.intersect(mesh, origin.as_vec3(), dir.as_vec3(), t_min as f32, 1e30)?;
+    let face = mesh.face_normal(hit.triangle).as_dvec3();
+    let facing = if face.dot(dir) <= 0.0 { 1.0 } else { -1.0 };
+    let face = face * facing;
+    let shading = mesh.shading_normal(hit.triangle, hit.uv).as_dvec3() * facing;
+    let distance = f64::from(hit.t);
+    Some(VisibleSurface {
+        position: origin + dir * distance,
+        normal: if shading.dot(face) > 0.0 { shading } else { face },
+        face,
+        albedo: scene.albedo(hit.triangle, hit.uv).as_dvec3(),
+        distance,
+    })
 }
 
 /// E at `position`, `normal` by a midpoint rule over `n`×`n` cells of the cosine-weighted
