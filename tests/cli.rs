@@ -153,6 +153,20 @@ fn absurd_sizes_and_settings_are_reported() {
         "frames",
     );
     assert_bad_input(&vkgi(&["render", "--no-such-flag"]), "no-such-flag");
+    for bounces in ["0", "33", "two"] {
+        assert_bad_input(
+            &vkgi(&[
+                "render",
+                "--size",
+                "32x24",
+                "--method",
+                "irradiance-cache",
+                "--bounces",
+                bounces,
+            ]),
+            "1 to 32 bounces, or inf",
+        );
+    }
 }
 
 #[test]
