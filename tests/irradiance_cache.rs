@@ -273,7 +273,7 @@ fn gradients_match_finite_differences_of_brute_force_hemisphere_integrals() {
     let tables = Tables::new(128, Coverage::Stretch);
     let n = DVec3::Y;
     let (tangent, bitangent) = cpu::basis(n);
-    let brute = |p: DVec3, normal: DVec3| cpu::integrate_hemisphere(1024, p, normal, &trace);
+    let brute = |p: DVec3, normal: DVec3| cpu::integrate_hemisphere(1024, None, p, normal, &trace);
     for p in [DVec3::new(0.3, 1e-4, 0.1), DVec3::new(-0.1, 1e-4, 0.6)] {
         let hemisphere = cpu::sample_hemisphere(128, p, n, &trace);
         let record = cpu::reduce(&tables, &hemisphere, p, n);

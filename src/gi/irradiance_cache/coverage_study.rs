@@ -1,7 +1,7 @@
 //! Table 8.1 of the chapter regenerated (spec 003 §14): how far each way of covering the
 //! directions a record's 126.87° plane misses (plane, [LC04], border stretching) puts its
-//! irradiance from a stratified integral over the whole hemisphere (`reference_side`² cosine-
-//! weighted directions, one at each stratum's centre), at surface points the scene's camera
+//! irradiance from a Monte-Carlo integral over the whole hemisphere (`reference_side`²
+//! cosine-weighted strata, one random direction in each), at surface points the scene's camera
 //! sees (a square image, pixels drawn at random).
 //!
 //! The radiance field is the hemisphere pass's: direct light × albedo / π at the visible
@@ -76,7 +76,8 @@ pub fn coverage_study(scene: &Scene, size: StudySize) -> CoverageStudy {
                         let Some((p, n)) = field.camera_point(i as u32) else {
                             continue;
                         };
-                        let Some((reference, e)) = field.irradiances(p, n, tables, size) else {
+                        let Some((reference, e)) = field.irradiances(p, n, tables, size, i as u32)
+                        else {
                             continue;
                         };
                         for (c, e) in e.into_iter().enumerate() {
@@ -163,14 +164,15 @@ impl Field<'_> {
         e
     }
 
-    /// The reference Σ_channels E at `p`, `n` and the record's under each coverage; None where
-    /// the reference is zero.
+    /// The reference Σ_channels E at `p`, `n` (stratified Monte Carlo drawn with `seed`) and the
+    /// record's under each coverage; None where the reference is zero.
     fn irradiances(
         &self,
         p: DVec3,
         n: DVec3,
         tables: &[Tables; 3],
         size: StudySize,
+        seed: u32,
     ) -> Option<(f64, [f64; 3])> {
         let origin = p + n * self.near;
         // The hemisphere camera clips at depth `near` along the normal.
@@ -179,7 +181,8 @@ impl Field<'_> {
             self.hit(o, dir, t_min)
                 .map(|(q, _, l)| (l, (q - o).length()))
         };
-        let reference = cpu::integrate_hemisphere(size.reference_side, origin, n, &trace);
+        let reference =
+            cpu::integrate_hemisphere(size.reference_side, Some(seed), origin, n, &trace);
         let reference: f64 = reference.iter().sum();
         if reference.is_nan() || reference <= 0.0 {
             return None;

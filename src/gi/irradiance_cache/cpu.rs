@@ -9,6 +9,7 @@ use glam::{DMat4, DVec3, DVec4};
 
 use super::bindings as ids;
 use super::tables::{self, Tables};
+use crate::reference::rng::random_float;
 use crate::scene::Scene;
 use crate::scene::bvh::Bvh;
 
@@ -194,10 +195,13 @@ pub fn visible_surface(
     })
 }
 
-/// E at `position`, `normal` by a midpoint rule over `n`×`n` cells of the cosine-weighted
-/// square (each cell one direction, weight π/n²): the brute-force hemisphere integral.
+/// E at `position`, `normal` over `n`×`n` cells of the cosine-weighted square, one direction
+/// per cell of weight π/n²: at each cell's centre (a midpoint rule, smooth in `position` for
+/// finite differences), or drawn at random in it with `jitter`'s seed (stratified Monte Carlo):
+/// the brute-force hemisphere integral.
 pub fn integrate_hemisphere(
     n: usize,
+    jitter: Option<u32>,
     position: DVec3,
     normal: DVec3,
     trace: &dyn Fn(DVec3, DVec3) -> Option<([f64; 3], f64)>,
@@ -206,8 +210,16 @@ pub fn integrate_hemisphere(
     let mut e = [0.0; 3];
     for a in 0..n {
         for b in 0..n {
-            let u1 = (a as f64 + 0.5) / n as f64;
-            let u2 = (b as f64 + 0.5) / n as f64;
+            let (j1, j2) = match jitter {
+                None => (0.5, 0.5),
+                Some(seed) => {
+                    let cell = (a * n + b) as u32;
+                    let u = |d| f64::from(random_float(seed, cell, 0, d));
+                    (u(0), u(1))
+                }
+            };
+            let u1 = (a as f64 + j1) / n as f64;
+            let u2 = (b as f64 + j2) / n as f64;
             let r = u1.sqrt();
             let phi = std::f64::consts::TAU * u2;
             let dir = tangent * (r * phi.cos())
