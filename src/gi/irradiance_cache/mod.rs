@@ -9,7 +9,9 @@
 //! hemispheres and splatting them. Placement is `tiles` (spec §17 mode B: the least covered
 //! pixel of each tile, 32 → 16 → 8 pixels, a budget per frame) or `scan` (mode A, the chapter's
 //! order: the first uncovered pixel in scan order, one record per round). Records persist while
-//! the camera moves and are dropped when lights or geometry change.
+//! the camera moves and are dropped when lights or geometry change. With `--bounces` past 1,
+//! once placement settles the frame's light work recomputes every record from hemispheres lit
+//! by a snapshot of the previous bounce's cache (passes.rs, `record_refresh`).
 
 pub mod bindings;
 pub mod coverage_study;
@@ -109,7 +111,7 @@ pub const METHODS: &[MethodEntry] = &[MethodEntry {
 }];
 
 /// Bounces `render` and `report` give `--bounces inf` room for by default (the Cornell box's
-/// Σ E settles to 0.1% after 10).
+/// Σ E settles to 0.1% after 9).
 const SETTLE_BOUNCES: u32 = 12;
 
 /// `--bounces`: 1 to IC_MAX_BOUNCES, or inf.
