@@ -3,8 +3,8 @@
 //! border stretching (the chapter, on Sibenik: 18.1% / 10.4% / 5.8%), over the chapter's 10 000
 //! camera points, 64² hemispheres and a 128² reference.
 //!
-//! cargo bench --bench ic_table81 [-- POINTS]   (markdown to stdout; about 25 minutes for
-//! 10 000 points on lavapipe's 2-core machine)
+//! cargo bench --bench ic_table81 [-- POINTS]   (markdown to stdout; CPU only, about 2 minutes
+//! for 10 000 points on 2 idle cores)
 
 use std::time::Instant;
 

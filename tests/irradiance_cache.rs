@@ -323,6 +323,7 @@ fn the_second_bounce_adds_the_snapshot_gathered_over_each_hemisphere() {
         state.refreshed, state.count,
         "every record refreshed: {state:?}"
     );
+    assert_eq!(state.done, 1, "no third bounce is wanted: {state:?}");
     let bytes = gpu.read_buffer(&ic.passes.previous).unwrap();
     let first_bounce: Vec<cpu::Record> = bytemuck::cast_slice::<u8, GpuRecord>(&bytes)
         [..state.count as usize]

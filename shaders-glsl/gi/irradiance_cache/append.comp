@@ -40,6 +40,7 @@ void main() {
     state.holes = found;
     state.overflowed += wanted - take;
     state.placed += take;
+    state.added = take;
     uint seen = 0u;
     uint next = 0u;
     for (uint t = 0u; t < pc.tiles && next < take; ++t) {

@@ -5,7 +5,8 @@
 // whose surfaces are lit by direct light plus the snapshot's irradiance (hemisphere.frag). This
 // pass picks the round's records, [first, end) of the state, and raises the snapshot flag for
 // snapshot.comp. Records placed during a refresh are shaded from the snapshot too, so they hold
-// the new bounce already. One thread.
+// the new bounce already. Once no bounce is wanted any more it raises `done`, and the host stops
+// recording the refresh until the cache is emptied. One thread.
 #include "gi/irradiance_cache/ic.glsl"
 #include "gi/irradiance_cache/draws.glsl"
 
@@ -41,15 +42,17 @@ void main() {
     state.first = state.count;
     state.end = state.count;
     bool refreshing = state.refreshed < state.previous_count;
+    state.done = 0u;
     if (!refreshing) {
-        bool settled = state.count > 0u && (state.holes == 0u || state.overflowed > 0u);
         uint target = pc.bounces == 0u ? uint(IC_MAX_BOUNCES) : min(pc.bounces, uint(IC_MAX_BOUNCES));
-        bool more = settled && state.bounce < target;
-        if (more && pc.bounces == 0u && state.bounce > 1u) {
+        bool wanted = state.bounce < target;
+        if (wanted && pc.bounces == 0u && state.bounce > 1u) {
             state.change = bounce_change();
-            more = state.change >= IC_BOUNCE_TOLERANCE;
+            wanted = state.change >= IC_BOUNCE_TOLERANCE;
         }
-        if (more) {
+        state.done = wanted ? 0u : 1u;
+        bool settled = state.count > 0u && (state.holes == 0u || state.overflowed > 0u);
+        if (wanted && settled) {
             state.snapshot = 1u;
             state.previous_count = state.count;
             state.refreshed = 0u;

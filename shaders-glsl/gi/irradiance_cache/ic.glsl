@@ -20,11 +20,13 @@ struct CacheState {
     uint holes;       // pixels found uncovered (one per tile) in the last round
     uint overflowed;  // candidates refused because the cache was full, since it was emptied
     uint placed;      // records added since the cache was emptied
+    uint added;       // records the last placement round added
     uint generation;  // the cache holds records of this generation; another means it is empty
     uint bounce;      // records [0, refreshed) hold this many bounces, the rest one fewer
     uint refreshed;   // records recomputed for `bounce` so far
     uint previous_count;  // records in the previous bounce's snapshot
-    uint snapshot;    // 1: this frame copies the cache into the snapshot
+    uint snapshot;    // 1: this round copies the cache into the snapshot
+    uint done;        // 1: the cache holds every bounce asked for (until it is emptied)
     float change;     // relative change of Σ E over the records from the previous bounce
 };
 
@@ -35,11 +37,13 @@ void empty_cache(inout CacheState s, uint generation) {
     s.end = 0u;
     s.overflowed = 0u;
     s.placed = 0u;
+    s.added = 0u;
     s.generation = generation;
     s.bounce = 1u;
     s.refreshed = 0u;
     s.previous_count = 0u;
     s.snapshot = 0u;
+    s.done = 0u;
     s.change = 0.0;
 }
 

@@ -196,6 +196,32 @@ impl IrradianceCache {
     pub fn state(&self) -> CacheState {
         self.passes.last_state()
     }
+
+    /// Whether `state` (of a finished frame) holds every bounce asked for in the cache the
+    /// passes keep: the refresh has nothing to do until the cache is emptied.
+    fn bounces_done(&self, state: &CacheState) -> bool {
+        state.generation == self.passes.generation() && state.done == 1
+    }
+
+    /// The fraction of the bounce refresh still to go: 0 for one bounce or when done.
+    fn bounces_left(&self, state: &CacheState) -> f64 {
+        if self.settings.bounces == Bounces::Limited(1) || self.bounces_done(state) {
+            return 0.0;
+        }
+        let refresh = if state.previous_count > 0 {
+            f64::from(state.previous_count - state.refreshed.min(state.previous_count))
+                / f64::from(state.previous_count)
+        } else {
+            0.0
+        };
+        match self.settings.bounces {
+            Bounces::Limited(n) => {
+                (f64::from(n - state.bounce.min(n)) + refresh) / f64::from(n.max(2) - 1)
+            }
+            Bounces::Unlimited if state.bounce <= 1 => 1.0,
+            Bounces::Unlimited => refresh.max(f64::from(state.change)).min(1.0),
+        }
+    }
 }
 
 impl GiMethod for IrradianceCache {
@@ -212,7 +238,7 @@ impl GiMethod for IrradianceCache {
     }
 
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
-        if self.settings.bounces != Bounces::Limited(1) {
+        if self.settings.bounces != Bounces::Limited(1) && !self.bounces_done(&self.state()) {
             self.passes.record_refresh(rec, ctx, &self.settings)?;
         }
         self.passes.record_state_copy(rec);
@@ -225,9 +251,10 @@ impl GiMethod for IrradianceCache {
 
     fn convergence(&self) -> Option<Convergence> {
         let state = self.state();
+        let placement = f64::from(state.holes) / f64::from(state.holes + state.count).max(1.0);
         Some(Convergence {
-            measure: "tiles with an uncovered pixel in the last round, against them and the records held",
-            remaining: f64::from(state.holes) / f64::from(state.holes + state.count).max(1.0),
+            measure: "tiles with an uncovered pixel in the last round against them and the records held, or the bounces left to compute if more",
+            remaining: placement.max(self.bounces_left(&state)),
         })
     }
 
@@ -273,7 +300,7 @@ impl GiMethod for IrradianceCache {
         Some(format!(
             "records {} (+{} last round), holes {}{bounce}{}",
             state.count,
-            state.end - state.first.min(state.end),
+            state.added,
             state.holes,
             if state.overflowed > 0 {
                 format!(", {} refused: cache full", state.overflowed)

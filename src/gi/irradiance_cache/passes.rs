@@ -256,6 +256,11 @@ impl Passes {
         Ok(passes)
     }
 
+    /// The generation of records the passes keep (the counters' `generation` once a pass ran).
+    pub fn generation(&self) -> u32 {
+        self.generation
+    }
+
     /// Empty the cache (lights or geometry changed): the next pass that reads it, in any view,
     /// finds it empty.
     pub fn empty(&mut self) {

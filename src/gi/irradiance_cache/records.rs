@@ -32,6 +32,8 @@ pub struct CacheState {
     pub overflowed: u32,
     /// Records added since the cache was emptied.
     pub placed: u32,
+    /// Records the last placement round added.
+    pub added: u32,
     /// The generation of the records held: passes of another generation see an empty cache.
     pub generation: u32,
     /// Records `[0, refreshed)` hold this many bounces of light, the others one fewer.
@@ -42,6 +44,8 @@ pub struct CacheState {
     pub previous_count: u32,
     /// 1: this round copies the cache into the snapshot.
     pub snapshot: u32,
+    /// 1: the cache holds every bounce asked for (until it is emptied).
+    pub done: u32,
     /// Relative change of Σ E over the records from the previous bounce (`--bounces inf`).
     pub change: f32,
 }
