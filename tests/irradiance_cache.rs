@@ -36,18 +36,6 @@ fn settings(placement: Placement, accuracy: f64, per_frame: u32) -> CacheSetting
     }
 }
 
-/// Half-precision bits to f32 (the G-buffer's normals).
-fn half(bits: u16) -> f32 {
-    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exponent = i32::from((bits >> 10) & 0x1f);
-    let mantissa = f32::from(bits & 0x3ff);
-    match exponent {
-        0 => sign * mantissa * 2f32.powi(-24),
-        31 => sign * f32::INFINITY,
-        e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
-}
-
 fn read_records(gpu: &Gpu, ic: &IrradianceCache) -> (CacheState, Vec<GpuRecord>) {
     let state_bytes = gpu.read_buffer(&ic.passes.state).unwrap();
     let state: CacheState =
@@ -195,7 +183,7 @@ fn the_splat_equals_a_brute_force_gather_over_every_record() {
             continue;
         }
         let position = Vec3::new(p[0], p[1], p[2]).as_dvec3();
-        let n = normals[i].map(half);
+        let n = normals[i].map(common::half_to_f32);
         let normal = Vec3::new(n[0], n[1], n[2]).normalize().as_dvec3();
         let (sum, weight) = cpu::gather(&records, &s.weighting, position, normal);
         let gpu_weight = f64::from(splat[i][3]);

@@ -275,18 +275,6 @@ fn one_lobe(lpv: &Lpv) -> Vec<DVec4> {
     cells
 }
 
-/// An IEEE half-precision float's value.
-fn half_to_f32(bits: u16) -> f32 {
-    let sign = if bits >> 15 == 1 { -1.0 } else { 1.0 };
-    let exponent = i32::from((bits >> 10) & 0x1f);
-    let mantissa = f32::from(bits & 0x3ff);
-    match exponent {
-        0 => sign * mantissa * 2f32.powi(-24),
-        31 => sign * f32::INFINITY,
-        e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
-}
-
 /// The VPLs of `lpv`'s RSM as the GPU rendered it, each with the light of its layer.
 fn vpls_of(gpu: &vkgi::gpu::Gpu, scene: &Scene, lpv: &Lpv) -> Vec<cpu::Vpl> {
     let rsm = lpv.rsm().unwrap();
@@ -296,7 +284,7 @@ fn vpls_of(gpu: &vkgi::gpu::Gpu, scene: &Scene, lpv: &Lpv) -> Vec<cpu::Vpl> {
     let normal_bytes = gpu.read_image(&rsm.normal).unwrap();
     let normal: Vec<f32> = bytemuck::cast_slice::<u8, u16>(&normal_bytes)
         .iter()
-        .map(|&h| half_to_f32(h))
+        .map(|&h| common::half_to_f32(h))
         .collect();
     let (_, views) = vkgi::scene::gpu::shadow_views(scene, &scene.raster_lights(), 1024);
     let texels = (rsm.size * rsm.size) as usize;

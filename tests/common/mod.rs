@@ -318,3 +318,15 @@ pub fn square_light_irradiance(p: Vec3, side: f32, height: f32, le: f32) -> f64 
     let (z0, z1) = (-r - f64::from(p.z), r - f64::from(p.z));
     f64::from(le) * (signed(x1, z1) - signed(x0, z1) - signed(x1, z0) + signed(x0, z0))
 }
+
+/// An IEEE half-precision float's value (G-buffer normals, RSM texels read back).
+pub fn half_to_f32(bits: u16) -> f32 {
+    let sign = if bits >> 15 == 1 { -1.0 } else { 1.0 };
+    let exponent = i32::from((bits >> 10) & 0x1f);
+    let mantissa = f32::from(bits & 0x3ff);
+    match exponent {
+        0 => sign * mantissa * 2f32.powi(-24),
+        31 => sign * f32::INFINITY,
+        e => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
