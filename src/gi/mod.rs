@@ -205,4 +205,5 @@ methods! {
     lightwave,
     radiosity,
     irradiance_cache,
+    radiance_volumes,
 }

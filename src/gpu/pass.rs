@@ -682,6 +682,40 @@ impl<'a> Recorder<'a> {
         Ok(())
     }
 
+    /// Record a compute pass whose workgroup counts an earlier pass wrote: the
+    /// `VkDispatchIndirectCommand` at byte `offset` of `args`, read behind a draw-indirect
+    /// barrier. `pass.threads` must be `[0; 3]` (the count is the buffer's, not the host's).
+    pub fn compute_indirect(
+        &mut self,
+        pass: &ComputePass,
+        args: &Buffer,
+        offset: u64,
+    ) -> GpuResult<()> {
+        let core = &pass.pipeline.core;
+        self.check_interface(core, pass.name, pass.bindings, pass.push)?;
+        if pass.threads != [0; 3] {
+            return Err(GpuError::Interface {
+                pass: pass.name.to_string(),
+                message: "an indirect dispatch takes its workgroup counts from its buffer; threads must be [0, 0, 0]".into(),
+            });
+        }
+        let scope = self.begin_scope(pass.name);
+        let mut accesses = Self::binding_accesses(pass.bindings, false);
+        accesses.push((Resource::Buffer(args), Access::IndirectRead));
+        self.sync(&accesses);
+        self.bind(core, pass.bindings, pass.push.bytes());
+        // SAFETY: pipeline and descriptors are bound above; `args` is an indirect buffer whose
+        // command an earlier pass wrote, made visible by the barrier `sync` recorded.
+        unsafe {
+            self.gpu
+                .shared
+                .device
+                .cmd_dispatch_indirect(self.cmd, args.raw, offset)
+        };
+        self.end_scope(scope);
+        Ok(())
+    }
+
     /// Record a raster pass: clear the attachments, draw, end.
     pub fn raster(&mut self, pass: &RasterPass) -> GpuResult<()> {
         let core = &pass.pipeline.core;

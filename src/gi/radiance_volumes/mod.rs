@@ -1,0 +1,267 @@
+//! `radiance-volumes`, seed 001 (Reich, "Realtime Global Illumination using Dynamic Radiance
+//! Volumes", 2015; spec 001, rebuilt from the author's public code): camera-centred cascaded
+//! grids of light caches, rebuilt every frame. Each view's lit pixels allocate the caches at the
+//! corners of their cells (and nowhere else); every cache is lit by every virtual area light
+//! (blocks of the RSM) and keeps its light as 2 or 3 SH bands; each pixel interpolates the
+//! irradiance of its 8 corner caches. Nothing is kept between frames, so lights, camera and
+//! geometry are followed in the frame they move.
+
+pub mod bindings;
+pub mod cascades;
+pub mod cpu;
+pub mod passes;
+
+use crate::error::InputError;
+use crate::gi::registry::{MethodEntry, Setup};
+use crate::gi::settings::{Kind, Setting, Settings};
+use crate::gi::{FrameContext, GiMethod};
+use crate::gpu::{Gpu, GpuResult, Recorder};
+use crate::scene::Scene;
+use crate::scene::dynamic::Aabb;
+use passes::{Passes, RvState};
+
+const SETTINGS: &[Setting] = &[
+    Setting::new(
+        "cascades",
+        Kind::Int {
+            min: 1,
+            max: cascades::MAX_CASCADES as i64,
+        },
+        "3",
+        "Cascades of cache grids around the camera, each twice as wide as the one before",
+    ),
+    Setting::new(
+        "resolution",
+        Kind::Int { min: 4, max: 256 },
+        "32",
+        "Cells per side of every cascade (caches sit at the cells' corners)",
+    )
+    .keys('9', '0', 2.0),
+    Setting::new(
+        "reach",
+        Kind::Float {
+            min: 0.01,
+            max: 100.0,
+        },
+        "1",
+        "How far the last cascade reaches from the camera, as a fraction of the scene's farthest point from its camera (1: all of it; the public code: fixed cascades of 4, 8 and 16 m)",
+    ),
+    Setting::new(
+        "transition",
+        Kind::Float { min: 0.0, max: 10.0 },
+        "2",
+        "Cells near a cascade's edge over which it blends into the next (0: a hard seam)",
+    ),
+    Setting::new(
+        "caches",
+        Kind::Int { min: 1, max: 1 << 20 },
+        "16384",
+        "Caches a frame may hold; corners past it are refused and counted, and pixels weight the corners they have",
+    ),
+    Setting::new(
+        "sh",
+        Kind::Choice(&["l1", "l2"]),
+        "l1",
+        "SH bands a cache keeps its light in: l1 (4 coefficients, the public code's default) or l2 (9)",
+    ),
+    Setting::new(
+        "rsm",
+        Kind::Choice(&["64", "128", "256", "512", "1024", "2048"]),
+        "256",
+        "Reflective-shadow-map resolution per light view",
+    ),
+    Setting::new(
+        "vals",
+        Kind::Int {
+            min: 1,
+            max: 1 << 20,
+        },
+        "4096",
+        "Virtual area lights a frame may light the caches with: the RSM is read at the finest mip level whose texels over all light views number at most this (the public code: 64² of one spot light)",
+    ),
+];
+
+pub const METHODS: &[MethodEntry] = &[MethodEntry {
+    name: "radiance-volumes",
+    description: "seed 001: dynamic radiance volumes, cascaded grids of SH light caches allocated every frame where the view needs them and lit by the RSM's virtual area lights",
+    default: false,
+    settings: SETTINGS,
+    settle_frames: |_| 1,
+    profile_axis: None,
+    create: |setup, settings| Ok(Box::new(RadianceVolumes::new(setup, settings)?)),
+}];
+
+/// SH bands a cache keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bands {
+    L1,
+    L2,
+}
+
+impl Bands {
+    pub fn coefficients(self) -> u32 {
+        match self {
+            Bands::L1 => 4,
+            Bands::L2 => 9,
+        }
+    }
+}
+
+/// The method's settings, parsed and checked.
+#[derive(Clone, Debug)]
+pub struct VolumeSettings {
+    pub cascades: u32,
+    pub resolution: u32,
+    /// How far the last cascade reaches, as a fraction of the scene's farthest point from its
+    /// camera.
+    pub reach: f32,
+    pub transition: f32,
+    pub capacity: u32,
+    pub bands: Bands,
+    pub rsm: u32,
+    pub val_budget: u32,
+}
+
+impl VolumeSettings {
+    pub fn parse(settings: &Settings) -> Result<Self, InputError> {
+        let rsm = settings.text("rsm")?;
+        Ok(VolumeSettings {
+            cascades: settings.u32("cascades")?,
+            resolution: settings.u32("resolution")?,
+            reach: settings.float("reach")? as f32,
+            transition: settings.float("transition")? as f32,
+            capacity: settings.u32("caches")?,
+            bands: if settings.text("sh")? == "l2" {
+                Bands::L2
+            } else {
+                Bands::L1
+            },
+            rsm: rsm
+                .parse()
+                .map_err(|_| InputError::new(format!("--rsm {rsm}: not a whole number")))?,
+            val_budget: settings.u32("vals")?,
+        })
+    }
+}
+
+pub struct RadianceVolumes {
+    pub settings: VolumeSettings,
+    pub passes: Passes,
+}
+
+impl RadianceVolumes {
+    pub fn new(setup: &Setup, settings: &Settings) -> anyhow::Result<RadianceVolumes> {
+        RadianceVolumes::with(setup, VolumeSettings::parse(settings)?)
+    }
+
+    pub fn with(setup: &Setup, settings: VolumeSettings) -> anyhow::Result<RadianceVolumes> {
+        let passes = Passes::new(setup.gpu, setup.scene, &settings)?;
+        Ok(RadianceVolumes { settings, passes })
+    }
+
+    /// The counters as the most recent finished frame left them.
+    pub fn state(&self) -> RvState {
+        self.passes.last_state()
+    }
+}
+
+impl GiMethod for RadianceVolumes {
+    fn name(&self) -> &'static str {
+        "radiance-volumes"
+    }
+
+    fn record_view(&mut self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
+        if view == 0 {
+            // Every view of a frame shares the cascades: around the first view's eye (a CAVE's
+            // walls all have the tracked head's).
+            self.passes
+                .record_start(rec, ctx.views[0].eye.position, &self.settings)?;
+        }
+        self.passes
+            .record_allocate(rec, &ctx.views[view], &self.settings)
+    }
+
+    fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        self.passes.record_light(rec, ctx, &self.settings)
+    }
+
+    fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
+        let last = view + 1 == ctx.views.len();
+        self.passes
+            .record_apply(rec, &ctx.views[view], last, &self.settings)
+    }
+
+    fn geometry_moved(
+        &mut self,
+        _gpu: &Gpu,
+        _scene: &Scene,
+        _regions: &[Aabb],
+    ) -> anyhow::Result<crate::gi::Follow> {
+        // The RSM and the G-buffer are drawn from the frame's vertex buffer every frame, and
+        // nothing else is kept.
+        Ok(crate::gi::Follow::Followed)
+    }
+
+    fn describe(&self) -> Vec<String> {
+        let s = &self.settings;
+        let p = &self.passes;
+        let state = self.state();
+        let memory = p.memory();
+        let total: u64 = memory.iter().map(|(_, b)| b).sum();
+        vec![
+            format!(
+                "radiance volumes: {} cascades of {}³ cells, the first {:.4} wide (cells {:.4} to {:.4}), transition {} cells, {:?}, at most {} caches",
+                s.cascades,
+                s.resolution,
+                p.first_side,
+                p.first_side / s.resolution as f32,
+                p.first_side * (1u32 << (s.cascades - 1)) as f32 / s.resolution as f32,
+                s.transition,
+                s.bands,
+                s.capacity
+            ),
+            format!(
+                "radiance volumes: RSM {}² x {} views read as {} VALs ({}² texels each), chain of {} levels",
+                p.rsm.size,
+                p.rsm.layers,
+                p.val_count(),
+                p.block,
+                p.levels.len()
+            ),
+            format!(
+                "radiance volumes: {} caches held last frame, {} refused (cache buffer full), {} corners missing, {} pixels beyond the cascades",
+                state.held(s.capacity),
+                state.refused,
+                state.missing,
+                state.beyond
+            ),
+            format!(
+                "radiance volumes: memory {:.2} MiB ({})",
+                total as f64 / (1u64 << 20) as f64,
+                memory
+                    .iter()
+                    .map(|(what, bytes)| format!("{what} {:.1} KiB", *bytes as f64 / 1024.0))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ]
+    }
+
+    fn status(&self) -> Option<String> {
+        let state = self.state();
+        Some(format!(
+            "caches {}{}{}",
+            state.held(self.settings.capacity),
+            if state.refused > 0 {
+                format!(", {} refused: buffer full", state.refused)
+            } else {
+                String::new()
+            },
+            if state.beyond > 0 {
+                format!(", {} pixels beyond the cascades", state.beyond)
+            } else {
+                String::new()
+            }
+        ))
+    }
+}

@@ -1,0 +1,448 @@
+//! The method's GPU state and passes: the address volume, the cache buffer and its counters,
+//! the RSM and its VAL mip chain, and the recording of a frame's allocation (per view), VALs,
+//! indirect dispatch, cache lighting, and apply (per view).
+
+use ash::vk;
+use bytemuck::{Pod, Zeroable};
+use gpu_allocator::MemoryLocation;
+
+use super::bindings as ids;
+use super::cascades::{Cascades, GpuCascade};
+use super::{Bands, VolumeSettings};
+use crate::gi::FrameContext;
+use crate::gi::shared::rsm::Rsm;
+use crate::gpu::{
+    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder,
+    Specialization,
+};
+use crate::render::targets::{View, check_buffer};
+use crate::scene::Scene;
+use crate::shaders;
+
+crate::push_constants! {
+    struct AllocatePush {
+        size: [u32; 2],
+        cascade_count: u32,
+        resolution: u32,
+        capacity: u32,
+        stride: u32,
+    }
+}
+
+crate::push_constants! {
+    struct ArgsPush {
+        capacity: u32,
+    }
+}
+
+crate::push_constants! {
+    struct ValsPush {
+        rsm_size: u32,
+        side: u32,
+        block: u32,
+        layers: u32,
+    }
+}
+
+crate::push_constants! {
+    struct ReducePush {
+        source: u32,
+        target: u32,
+        side: u32,
+        layers: u32,
+    }
+}
+
+crate::push_constants! {
+    struct LightPush {
+        capacity: u32,
+        stride: u32,
+        coefficients: u32,
+        val_count: u32,
+    }
+}
+
+crate::push_constants! {
+    struct ApplyPush {
+        size: [u32; 2],
+        cascade_count: u32,
+        resolution: u32,
+        stride: u32,
+        coefficients: u32,
+    }
+}
+
+/// The counters (rv.glsl `RvState`); the first three words are the lighting pass's
+/// `VkDispatchIndirectCommand`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct RvState {
+    pub groups: [u32; 3],
+    /// Corners that asked for a cache this frame (those past the capacity were refused).
+    pub requested: u32,
+    /// Corners refused because the cache buffer was full.
+    pub refused: u32,
+    /// Corners the apply pass found without a cache: the allocation invariant says 0.
+    pub missing: u32,
+    /// Lit pixels beyond the last cascade, which get no cached light.
+    pub beyond: u32,
+    pad: u32,
+}
+
+impl RvState {
+    /// Caches held this frame.
+    pub fn held(&self, capacity: u32) -> u32 {
+        self.requested.min(capacity)
+    }
+}
+
+/// One level of the VAL mip chain: where it starts in the VAL buffer and its side per layer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ValLevel {
+    pub first: u32,
+    pub side: u32,
+}
+
+struct Pipelines {
+    allocate: ComputePipeline,
+    args: ComputePipeline,
+    vals: ComputePipeline,
+    reduce: ComputePipeline,
+    light: ComputePipeline,
+    apply: ComputePipeline,
+}
+
+pub struct Passes {
+    pipelines: Pipelines,
+    pub rsm: Rsm,
+    /// (C·(N+1)³ corners): 0 no cache, index + 1, or the locked / refused marks.
+    pub address: Buffer,
+    /// Per cache: its position (w: cascade), then its SH coefficients (rgb), one vec4 each.
+    pub caches: Buffer,
+    pub state: Buffer,
+    state_copy: Buffer,
+    pub cascade_buffer: Buffer,
+    /// The VALs, every level of the chain, all layers.
+    pub vals: Buffer,
+    /// The chain's levels, the read level first.
+    pub levels: Vec<ValLevel>,
+    /// RSM texels per VAL side at the read level.
+    pub block: u32,
+    /// The cascades of the frame being recorded.
+    pub cascades: Cascades,
+    /// The first cascade's side in world units.
+    pub first_side: f32,
+}
+
+/// vec4s per cache: its position and its coefficients.
+pub fn stride(bands: Bands) -> u32 {
+    1 + bands.coefficients()
+}
+
+impl Passes {
+    pub fn new(gpu: &Gpu, scene: &Scene, settings: &VolumeSettings) -> anyhow::Result<Passes> {
+        let none = Specialization::new();
+        let compute = |name: &str, spirv: &[u8]| ComputePipeline::new(gpu, name, spirv, &none);
+        let pipelines = Pipelines {
+            allocate: compute("rv allocate", shaders::GI_RADIANCE_VOLUMES_ALLOCATE_COMP)?,
+            args: compute("rv args", shaders::GI_RADIANCE_VOLUMES_ARGS_COMP)?,
+            vals: compute("rv vals", shaders::GI_RADIANCE_VOLUMES_VALS_COMP)?,
+            reduce: compute("rv reduce", shaders::GI_RADIANCE_VOLUMES_REDUCE_COMP)?,
+            light: compute("rv light", shaders::GI_RADIANCE_VOLUMES_LIGHT_COMP)?,
+            apply: compute("rv apply", shaders::GI_RADIANCE_VOLUMES_APPLY_COMP)?,
+        };
+        let rsm = Rsm::new(gpu, scene, settings.rsm)?;
+        let (block, levels) = val_chain(settings.rsm, rsm.layers, settings.val_budget);
+        let val_total = levels.last().map_or(0, |l| l.first + l.side * l.side * rsm.layers);
+        let val_bytes = u64::from(val_total) * 64;
+        check_buffer(gpu, "the VAL mip chain", val_bytes)?;
+        let corners = u64::from(settings.cascades) * u64::from(settings.resolution + 1).pow(3);
+        check_buffer(gpu, "the cache address volume", corners * 4)?;
+        let cache_bytes = u64::from(settings.capacity) * u64::from(stride(settings.bands)) * 16;
+        check_buffer(gpu, "the cache buffer", cache_bytes)?;
+        let first_side = first_cascade_side(scene, settings);
+        let state_bytes = std::mem::size_of::<RvState>() as u64;
+        let passes = Passes {
+            pipelines,
+            rsm,
+            address: gpu.create_buffer(&BufferDesc::storage("rv address volume", corners * 4))?,
+            caches: gpu.create_buffer(&BufferDesc::storage("rv caches", cache_bytes))?,
+            state: gpu.create_buffer(&BufferDesc {
+                usage: vk::BufferUsageFlags::STORAGE_BUFFER
+                    | vk::BufferUsageFlags::INDIRECT_BUFFER
+                    | vk::BufferUsageFlags::TRANSFER_DST
+                    | vk::BufferUsageFlags::TRANSFER_SRC,
+                ..BufferDesc::storage("rv state", state_bytes)
+            })?,
+            state_copy: gpu.create_buffer(&BufferDesc {
+                name: "rv state (host copy)",
+                size: state_bytes,
+                usage: vk::BufferUsageFlags::TRANSFER_DST,
+                location: MemoryLocation::GpuToCpu,
+            })?,
+            cascade_buffer: gpu.create_buffer(&BufferDesc::storage(
+                "rv cascades",
+                (super::cascades::MAX_CASCADES * std::mem::size_of::<GpuCascade>()) as u64,
+            ))?,
+            vals: gpu.create_buffer(&BufferDesc::storage("rv vals", val_bytes))?,
+            levels,
+            block,
+            cascades: Cascades::around(
+                scene.camera.position,
+                settings.cascades as usize,
+                settings.resolution,
+                first_side,
+                settings.transition,
+            ),
+            first_side,
+        };
+        gpu.one_shot(|rec| {
+            rec.fill_buffer("rv state start", &passes.state, 0);
+            Ok(())
+        })?;
+        Ok(passes)
+    }
+
+    /// Bytes of GPU memory the method holds, by what for.
+    pub fn memory(&self) -> Vec<(&'static str, u64)> {
+        // Position and flux 16 bytes a texel, the normal 8, one depth layer 4.
+        let texels = u64::from(self.rsm.size).pow(2);
+        let rsm = texels * (40 * u64::from(self.rsm.layers) + 4);
+        vec![
+            ("caches", self.caches.size),
+            ("address volume", self.address.size),
+            ("VAL chain", self.vals.size),
+            ("RSM", rsm),
+        ]
+    }
+
+    /// VALs the caches are lit by each frame (the read level, every layer).
+    pub fn val_count(&self) -> u32 {
+        self.levels[0].side.pow(2) * self.rsm.layers
+    }
+
+    /// Empty the address volume and counters and place this frame's cascades around `eye`
+    /// (before the first view's allocation).
+    pub fn record_start(
+        &mut self,
+        rec: &mut Recorder,
+        eye: glam::Vec3,
+        settings: &VolumeSettings,
+    ) -> GpuResult<()> {
+        self.cascades = Cascades::around(
+            eye,
+            settings.cascades as usize,
+            settings.resolution,
+            self.first_side,
+            settings.transition,
+        );
+        rec.fill_buffer("rv clear address volume", &self.address, ids::RV_EMPTY);
+        rec.fill_buffer("rv clear counters", &self.state, 0);
+        rec.update_buffer(
+            "rv cascades",
+            &self.cascade_buffer,
+            bytemuck::cast_slice(&self.cascades.cascades),
+        );
+        Ok(())
+    }
+
+    /// Allocate the caches view `view`'s lit pixels need.
+    pub fn record_allocate(
+        &self,
+        rec: &mut Recorder,
+        view: &View,
+        settings: &VolumeSettings,
+    ) -> GpuResult<()> {
+        rec.compute(&ComputePass {
+            name: "rv allocate",
+            pipeline: &self.pipelines.allocate,
+            bindings: &[
+                Binding::image_read(ids::RV_GBUFFER_POSITION, &view.gbuffer.position),
+                Binding::write(ids::RV_ADDRESS, &self.address),
+                Binding::write(ids::RV_CACHES, &self.caches),
+                Binding::write(ids::RV_STATE, &self.state),
+                Binding::read(ids::RV_CASCADES, &self.cascade_buffer),
+            ],
+            push: &AllocatePush {
+                size: [view.width(), view.height()],
+                cascade_count: settings.cascades,
+                resolution: settings.resolution,
+                capacity: settings.capacity,
+                stride: stride(settings.bands),
+            },
+            threads: [view.width(), view.height(), 1],
+        })
+    }
+
+    /// The RSM, its VALs and their chain, the indirect dispatch and the cache lighting.
+    pub fn record_light(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        settings: &VolumeSettings,
+    ) -> GpuResult<()> {
+        self.rsm.record(rec, ctx)?;
+        let layers = self.rsm.layers;
+        let read = self.levels[0];
+        rec.compute(&ComputePass {
+            name: "rv vals",
+            pipeline: &self.pipelines.vals,
+            bindings: &[
+                Binding::image_read(ids::RV_RSM_POSITION, &self.rsm.position),
+                Binding::image_read(ids::RV_RSM_NORMAL, &self.rsm.normal),
+                Binding::image_read(ids::RV_RSM_FLUX, &self.rsm.flux),
+                Binding::read(ids::RV_SHADOW_VIEWS, &ctx.scene.shadow_views),
+                Binding::write(ids::RV_VALS, &self.vals),
+            ],
+            push: &ValsPush {
+                rsm_size: self.rsm.size,
+                side: read.side,
+                block: self.block,
+                layers,
+            },
+            threads: [read.side, read.side, layers],
+        })?;
+        for (step, pair) in self.levels.windows(2).enumerate() {
+            rec.in_step(step as u32 + 1, |rec| {
+                rec.compute(&ComputePass {
+                    name: "rv reduce",
+                    pipeline: &self.pipelines.reduce,
+                    bindings: &[Binding::write(ids::RV_VALS, &self.vals)],
+                    push: &ReducePush {
+                        source: pair[0].first,
+                        target: pair[1].first,
+                        side: pair[1].side,
+                        layers,
+                    },
+                    threads: [pair[1].side, pair[1].side, layers],
+                })
+            })?;
+        }
+        rec.compute(&ComputePass {
+            name: "rv args",
+            pipeline: &self.pipelines.args,
+            bindings: &[Binding::write(ids::RV_STATE, &self.state)],
+            push: &ArgsPush {
+                capacity: settings.capacity,
+            },
+            threads: [1, 1, 1],
+        })?;
+        rec.compute_indirect(
+            &ComputePass {
+                name: "rv light",
+                pipeline: &self.pipelines.light,
+                bindings: &[
+                    Binding::write(ids::RV_CACHES, &self.caches),
+                    Binding::read(ids::RV_VALS, &self.vals),
+                    Binding::read(ids::RV_STATE, &self.state),
+                ],
+                push: &LightPush {
+                    capacity: settings.capacity,
+                    stride: stride(settings.bands),
+                    coefficients: settings.bands.coefficients(),
+                    val_count: self.val_count(),
+                },
+                threads: [0; 3],
+            },
+            &self.state,
+            0,
+        )
+    }
+
+    /// Add view `view`'s cached indirect light to its HDR image; after the last view, copy
+    /// the counters where [`Passes::last_state`] reads them.
+    pub fn record_apply(
+        &self,
+        rec: &mut Recorder,
+        view: &View,
+        last: bool,
+        settings: &VolumeSettings,
+    ) -> GpuResult<()> {
+        let g = &view.gbuffer;
+        rec.compute(&ComputePass {
+            name: "rv apply",
+            pipeline: &self.pipelines.apply,
+            bindings: &[
+                Binding::image_read(ids::RV_GBUFFER_POSITION, &g.position),
+                Binding::image_read(ids::RV_GBUFFER_NORMAL, &g.normal),
+                Binding::image_read(ids::RV_GBUFFER_ALBEDO, &g.albedo),
+                Binding::image_write(ids::RV_HDR, &view.hdr),
+                Binding::read(ids::RV_ADDRESS, &self.address),
+                Binding::read(ids::RV_CACHES, &self.caches),
+                Binding::write(ids::RV_STATE, &self.state),
+                Binding::read(ids::RV_CASCADES, &self.cascade_buffer),
+            ],
+            push: &ApplyPush {
+                size: [view.width(), view.height()],
+                cascade_count: settings.cascades,
+                resolution: settings.resolution,
+                stride: stride(settings.bands),
+                coefficients: settings.bands.coefficients(),
+            },
+            threads: [view.width(), view.height(), 1],
+        })?;
+        if last {
+            rec.copy_buffer("rv state copy", &self.state, &self.state_copy, self.state.size);
+            rec.host_read(&self.state_copy);
+        }
+        Ok(())
+    }
+
+    /// The counters as the most recent finished frame left them (without waiting).
+    pub fn last_state(&self) -> RvState {
+        self.state_copy.mapped_value().unwrap_or_default()
+    }
+}
+
+/// The first cascade's side: the last cascade reaches `settings.reach` times as far as the
+/// scene's farthest point from its camera (max norm), with a cell to spare for the snapping.
+pub fn first_cascade_side(scene: &Scene, settings: &VolumeSettings) -> f32 {
+    let (lo, hi, eye) = (scene.bounds_min, scene.bounds_max, scene.camera.position);
+    let reach = (eye - lo).abs().max((hi - eye).abs()).max_element().max(1e-6);
+    let n = settings.resolution as f32;
+    let last_side = 2.0 * reach * settings.reach * n / (n - 2.0);
+    last_side / (1u32 << (settings.cascades - 1)) as f32
+}
+
+/// The VAL chain for an RSM of `size`² texels and `layers` layers: the read level is the finest
+/// whose VALs over all layers number at most `budget` (or one VAL a layer), and the chain goes
+/// on to one VAL a layer. Returns the read level's texels per VAL side and the levels.
+pub fn val_chain(size: u32, layers: u32, budget: u32) -> (u32, Vec<ValLevel>) {
+    let mut side = size;
+    while side > 1 && u64::from(side).pow(2) * u64::from(layers) > u64::from(budget) {
+        side /= 2;
+    }
+    let block = size / side;
+    let mut levels = Vec::new();
+    let mut first = 0;
+    loop {
+        levels.push(ValLevel { first, side });
+        if side == 1 {
+            break;
+        }
+        first += side * side * layers;
+        side /= 2;
+    }
+    (block, levels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_read_level_fits_the_budget_and_the_chain_ends_at_one_val_a_layer() {
+        let (block, levels) = val_chain(256, 1, 4096);
+        assert_eq!(block, 4);
+        assert_eq!(levels[0], ValLevel { first: 0, side: 64 });
+        assert_eq!(levels.len(), 7);
+        assert_eq!(levels[1], ValLevel { first: 4096, side: 32 });
+        assert_eq!(levels.last().unwrap().side, 1);
+        // 80 layers (16 area-light samples, 5 views each): 4x4 VALs a layer.
+        let (block, levels) = val_chain(256, 80, 4096);
+        assert_eq!((block, levels[0].side), (64, 4));
+        // More layers than the budget: one VAL a layer.
+        let (block, levels) = val_chain(64, 5000, 4096);
+        assert_eq!((block, levels.len()), (64, 1));
+    }
+}
