@@ -140,10 +140,11 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
     let rows = report["rows"].as_array().unwrap();
     assert_eq!(
         rows.len(),
-        8,
-        "the ambient baseline, lpv and ilpv at 1 and 2 steps, lightwave, radiosity, irradiance-cache"
+        9,
+        "the ambient baseline, lpv and ilpv at 1 and 2 steps, lightwave, radiosity, irradiance-cache, radiance-volumes"
     );
     assert!(rows.iter().any(|r| r["method"] == "irradiance-cache"));
+    assert!(rows.iter().any(|r| r["method"] == "radiance-volumes"));
     let mut methods_seen = Vec::new();
     for r in rows {
         for part in ["indirect", "full"] {

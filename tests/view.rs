@@ -204,14 +204,14 @@ fn view_with_keys(dir: &Path, extra: &[&str], frames: u32, keys: &str) -> serde_
 fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
     let dir = scratch("keys");
     // Per frame (the method cycle is none, then the registry's order: ambient, ilpv, lightwave,
-    // lpv, radiosity, irradiance-cache; the default is ilpv): lightwave, lpv, radiosity,
-    // irradiance-cache, none, ambient, ilpv, lattice +2, steps +1, λ +0.05, light right, indirect
-    // only, direct only, screenshot, help.
+    // lpv, radiosity, irradiance-cache, radiance-volumes; the default is ilpv): lightwave, lpv,
+    // radiosity, irradiance-cache, radiance-volumes, none, ambient, ilpv, lattice +2, steps +1,
+    // λ +0.05, light right, indirect only, direct only, screenshot, help.
     let report = view_with_keys(
         &dir,
         &["--size", "96x72"],
-        15,
-        "m,m,m,m,m,m,m,],.,=,right,i,o,p,f1",
+        16,
+        "m,m,m,m,m,m,m,m,],.,=,right,i,o,p,f1",
     );
     for file in [
         "vkgi-screenshot-1.png",
@@ -220,17 +220,18 @@ fn keys_switch_method_and_settings_move_the_light_and_save_screenshots() {
     ] {
         assert!(dir.join(file).exists(), "{file} was saved");
     }
-    assert_eq!(report["frames"], 15);
+    assert_eq!(report["frames"], 16);
     let runs = |name: &str| pass_runs(&report, name);
-    // Injection runs with lpv in frame 1 and ilpv in frames 6-11: not with lightwave (frame 0),
-    // radiosity (frame 2), irradiance-cache (frame 3), none (frame 4) or ambient (frame 5), nor
-    // once "o" (direct only) is on.
+    // Injection runs with lpv in frame 1 and ilpv in frames 7-12: not with lightwave (frame 0),
+    // radiosity (frame 2), irradiance-cache (frame 3), radiance-volumes (frame 4), none (frame
+    // 5) or ambient (frame 6), nor once "o" (direct only) is on.
     assert_eq!(runs("inject"), 7);
     assert_eq!(runs("ambient"), 1);
     assert_eq!(runs("lightwave gather"), 1);
     assert_eq!(runs("radiosity display"), 1);
     assert_eq!(runs("ic normalise"), 1);
-    assert_eq!(runs("g-buffer"), 15);
+    assert_eq!(runs("rv apply"), 1);
+    assert_eq!(runs("g-buffer"), 16);
     assert_eq!(runs("update lights"), 1, "the light moved once");
 }
 
