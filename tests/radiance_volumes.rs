@@ -36,12 +36,15 @@ fn settings(bands: Bands, resolution: u32, capacity: u32) -> VolumeSettings {
 fn run(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> (Frame, RadianceVolumes) {
     let mut frame = Frame::new(gpu, scene, common::indirect_only(SIZE.0, SIZE.1)).unwrap();
     let mut rv = RadianceVolumes::with(&Setup::new(gpu, scene), settings).unwrap();
-    drop(run_frames(gpu, &mut frame, Some(&mut rv), 0, 1).unwrap());
+    // Two frames, as `render` runs: the host reads the counters a frame late.
+    drop(run_frames(gpu, &mut frame, Some(&mut rv), 0, 2).unwrap());
     (frame, rv)
 }
 
 fn state(gpu: &Gpu, rv: &RadianceVolumes) -> RvState {
-    let bytes = gpu.read_buffer(&rv.passes.state).unwrap();
+    let bytes = gpu
+        .read_buffer(&rv.passes.state[rv.passes.last_set()])
+        .unwrap();
     bytemuck::pod_read_unaligned(&bytes[..std::mem::size_of::<RvState>()])
 }
 
@@ -245,7 +248,8 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
     }
 
     // The apply pass: the f64 interpolation of the GPU's caches, and the brute-force gather.
-    let address: Vec<u32> = bytemuck::cast_slice(&gpu.read_buffer(&p.address).unwrap()).to_vec();
+    let address: Vec<u32> =
+        bytemuck::cast_slice(&gpu.read_buffer(&p.address[p.last_set()]).unwrap()).to_vec();
     let g = &frame.views[0].gbuffer;
     let (gp, gn, ga) = (
         texels(gpu, &g.position),

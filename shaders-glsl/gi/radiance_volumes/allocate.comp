@@ -6,6 +6,7 @@
 // corners a cache unless one owns it already (compare-and-swap on the address volume); a full
 // cache buffer refuses the corner, which is marked and counted, never half-written.
 #include "gi/radiance_volumes/rv.glsl"
+#include "gi/radiance_volumes/state.glsl"
 
 layout(local_size_x = RV_TILE, local_size_y = RV_TILE) in;
 
@@ -15,12 +16,18 @@ layout(binding = RV_CACHES, std430) writeonly buffer Caches { vec4 caches[]; };
 layout(binding = RV_STATE, std430) buffer State { RvState state; };
 
 layout(push_constant) uniform Push {
+    vec4 eye_side;      // the cascades' centre, the first cascade's side
     uvec2 size;
     uint cascade_count;
     uint resolution;
+    float transition;
     uint capacity;
     uint stride;        // vec4s per cache: its position, then its SH coefficients
 } pc;
+
+RvGrid grid() {
+    return RvGrid(pc.eye_side.xyz, pc.eye_side.w, pc.cascade_count, pc.resolution, pc.transition);
+}
 
 shared uint cells[2][RV_TILE][RV_TILE];
 
@@ -40,7 +47,7 @@ void allocate_cell(uint cell) {
             atomicExchange(address[slot], RV_REFUSED);
             continue;
         }
-        caches[index * pc.stride] = vec4(rv_corner_position(i, corner), float(i));
+        caches[index * pc.stride] = vec4(rv_corner_position(grid(), i, corner), float(i));
         atomicExchange(address[slot], index + 1u);
     }
 }
@@ -61,16 +68,15 @@ void main() {
     if (all(lessThan(pixel, pc.size))) {
         vec4 position = imageLoad(gbuffer_position, ivec2(pixel));
         float blend;
-        uint i = position.w != 0.0 ? rv_select(position.xyz, pc.cascade_count, pc.resolution, blend)
-                                   : RV_NONE;
+        uint i = position.w != 0.0 ? rv_select(grid(), position.xyz, blend) : RV_NONE;
         if (i != RV_NONE) {
             uint n = pc.resolution;
             uvec3 g;
             vec3 f;
-            rv_cell(i, position.xyz, n, g, f);
+            rv_cell(grid(), i, position.xyz, g, f);
             own = i * n * n * n + g.x + n * (g.y + n * g.z);
             if (blend > 0.0) {
-                rv_cell(i + 1u, position.xyz, n, g, f);
+                rv_cell(grid(), i + 1u, position.xyz, g, f);
                 next = (i + 1u) * n * n * n + g.x + n * (g.y + n * g.z);
             }
         }

@@ -7,6 +7,7 @@
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"
 #include "gi/radiance_volumes/rv.glsl"
+#include "gi/radiance_volumes/state.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
@@ -19,12 +20,18 @@ layout(binding = RV_CACHES, std430) readonly buffer Caches { vec4 caches[]; };
 layout(binding = RV_STATE, std430) buffer State { RvState state; };
 
 layout(push_constant) uniform Push {
+    vec4 eye_side;      // the cascades' centre, the first cascade's side
     uvec2 size;
     uint cascade_count;
     uint resolution;
+    float transition;
     uint stride;
     uint coefficients;
 } pc;
+
+RvGrid grid() {
+    return RvGrid(pc.eye_side.xyz, pc.eye_side.w, pc.cascade_count, pc.resolution, pc.transition);
+}
 
 vec3 cache_irradiance(uint index, vec3 n) {
     float y[SH_L2_COEFFICIENTS];
@@ -39,7 +46,7 @@ vec3 cache_irradiance(uint index, vec3 n) {
 vec3 interpolate(uint cascade, vec3 p, vec3 n, inout uint missing) {
     uvec3 g;
     vec3 f;
-    rv_cell(cascade, p, pc.resolution, g, f);
+    rv_cell(grid(), cascade, p, g, f);
     vec3 sum = vec3(0.0);
     float weights = 0.0;
     for (uint k = 0u; k < 8u; ++k) {
@@ -64,7 +71,7 @@ void main() {
     vec4 position = imageLoad(gbuffer_position, pixel);
     if (position.w == 0.0) return;
     float blend;
-    uint cascade = rv_select(position.xyz, pc.cascade_count, pc.resolution, blend);
+    uint cascade = rv_select(grid(), position.xyz, blend);
     if (cascade == RV_NONE) {
         atomicAdd(state.beyond, 1u);
         return;

@@ -5,7 +5,6 @@ crate::shared_constants! {
     RV_ADDRESS: u32 = 0;
     RV_CACHES: u32 = 1;
     RV_STATE: u32 = 2;
-    RV_CASCADES: u32 = 3;
     RV_VALS: u32 = 4;
     RV_GBUFFER_POSITION: u32 = 5;
     RV_GBUFFER_NORMAL: u32 = 6;

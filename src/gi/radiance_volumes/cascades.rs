@@ -5,11 +5,10 @@
 //! cells) holds it, blends into the next one within T cells of that box's faces, and to the
 //! last cascade anywhere in its snapped grid; beyond that it gets no cached light.
 //!
-//! The boxes are computed here, in f32, once per frame, and handed to the shaders
-//! (shaders-glsl/gi/radiance_volumes/rv.glsl selects with them); `select` mirrors the shader for
-//! tests.
+//! The shaders derive the boxes from the eye and the first cascade's side in their push
+//! constants (shaders-glsl/gi/radiance_volumes/rv.glsl `rv_cascade`, `rv_select`, `rv_cell`);
+//! this module mirrors them in the same f32 arithmetic, for the host and for tests.
 
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 /// Most cascades (spec 001 §5: 1-4).
@@ -18,24 +17,29 @@ pub const MAX_CASCADES: usize = 4;
 /// Cells of margin between a decision box and its grid (spec 001 §4.1).
 const DECISION_MARGIN: f32 = 1.5;
 
-/// One cascade as the shaders read it (std430).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuCascade {
-    /// xyz: the snapped grid's minimum corner, w: the cell size h.
-    pub min_cell: [f32; 4],
-    /// xyz: the decision box's minimum, w: the transition width T in cells.
-    pub decision_min: [f32; 4],
-    /// xyz: the decision box's maximum, w: unused.
-    pub decision_max: [f32; 4],
+/// One cascade's boxes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cascade {
+    /// The snapped grid's minimum corner.
+    pub lo: Vec3,
+    pub cell: f32,
+    /// The unsnapped decision box.
+    pub decision_lo: Vec3,
+    pub decision_hi: Vec3,
 }
 
 /// The cascades of one frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cascades {
+    /// The cascades' centre.
+    pub eye: Vec3,
+    /// Side of cascade 0.
+    pub first_side: f32,
     /// Cells per side of every cascade.
     pub resolution: u32,
-    pub cascades: Vec<GpuCascade>,
+    /// Cells over which a cascade blends into the next (0: none).
+    pub transition: f32,
+    pub cascades: Vec<Cascade>,
 }
 
 /// Which cascade serves a point, and how far it blends into the next.
@@ -60,18 +64,20 @@ impl Cascades {
             .map(|i| {
                 let side = first_side * (1u32 << i) as f32;
                 let cell = side / resolution as f32;
-                let min = (eye / cell).round() * cell - Vec3::splat(0.5 * side);
                 let half = 0.5 * side - DECISION_MARGIN * cell;
-                let (d_min, d_max) = (eye - Vec3::splat(half), eye + Vec3::splat(half));
-                GpuCascade {
-                    min_cell: min.extend(cell).to_array(),
-                    decision_min: d_min.extend(transition).to_array(),
-                    decision_max: d_max.extend(0.0).to_array(),
+                Cascade {
+                    lo: (eye / cell + 0.5).floor() * cell - Vec3::splat(0.5 * side),
+                    cell,
+                    decision_lo: eye - Vec3::splat(half),
+                    decision_hi: eye + Vec3::splat(half),
                 }
             })
             .collect();
         Cascades {
+            eye,
+            first_side,
             resolution,
+            transition,
             cascades,
         }
     }
@@ -81,20 +87,15 @@ impl Cascades {
         (self.resolution as usize + 1).pow(3)
     }
 
-    /// The cascade serving `p`, or None beyond the last one's grid (mirrors rv.glsl's
-    /// `rv_select`).
+    /// The cascade serving `p`, or None beyond the last one's grid.
     pub fn select(&self, p: Vec3) -> Option<Selection> {
         let last = self.cascades.len() - 1;
         for (i, c) in self.cascades.iter().enumerate().take(last) {
-            let (lo, hi) = (
-                Vec3::from_slice(&c.decision_min[..3]),
-                Vec3::from_slice(&c.decision_max[..3]),
-            );
+            let (lo, hi) = (c.decision_lo, c.decision_hi);
             if p.cmpge(lo).all() && p.cmple(hi).all() {
-                let transition = c.decision_min[3];
-                let blend = if transition > 0.0 {
+                let blend = if self.transition > 0.0 {
                     let inside = (p - lo).min(hi - p).min_element();
-                    (1.0 - inside / (c.min_cell[3] * transition)).clamp(0.0, 1.0)
+                    (1.0 - inside / (c.cell * self.transition)).clamp(0.0, 1.0)
                 } else {
                     0.0
                 };
@@ -102,18 +103,17 @@ impl Cascades {
             }
         }
         let c = &self.cascades[last];
-        let min = Vec3::from_slice(&c.min_cell[..3]);
-        let max = min + Vec3::splat(c.min_cell[3] * self.resolution as f32);
-        (p.cmpge(min).all() && p.cmple(max).all()).then_some(Selection {
+        let hi = c.lo + Vec3::splat(c.cell * self.resolution as f32);
+        (p.cmpge(c.lo).all() && p.cmple(hi).all()).then_some(Selection {
             cascade: last,
             blend: 0.0,
         })
     }
 
-    /// The cell of cascade `i` holding `p` and the position within it (mirrors `rv_cell`).
+    /// The cell of cascade `i` holding `p` and the position within it.
     pub fn cell(&self, i: usize, p: Vec3) -> ([u32; 3], Vec3) {
         let c = &self.cascades[i];
-        let u = (p - Vec3::from_slice(&c.min_cell[..3])) / c.min_cell[3];
+        let u = (p - c.lo) / c.cell;
         let last = (self.resolution - 1) as f32;
         let g = u.floor().clamp(Vec3::ZERO, Vec3::splat(last));
         let f = (u - g).clamp(Vec3::ZERO, Vec3::ONE);
@@ -131,8 +131,7 @@ impl Cascades {
     /// World position of corner `corner` of cascade `i`.
     pub fn corner_position(&self, i: usize, corner: [u32; 3]) -> Vec3 {
         let c = &self.cascades[i];
-        Vec3::from_slice(&c.min_cell[..3])
-            + Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32) * c.min_cell[3]
+        c.lo + Vec3::new(corner[0] as f32, corner[1] as f32, corner[2] as f32) * c.cell
     }
 }
 
@@ -171,7 +170,7 @@ mod tests {
                     assert!(g.iter().all(|&g| g < 32), "{g:?}");
                     assert!(f.cmpge(Vec3::ZERO).all() && f.cmple(Vec3::ONE).all());
                     // The interpolated position is p: the cell really holds it.
-                    let corner = c.corner_position(i, g) + f * c.cascades[i].min_cell[3];
+                    let corner = c.corner_position(i, g) + f * c.cascades[i].cell;
                     assert!((corner - p).abs().max_element() < 1e-4, "{corner} vs {p}");
                 }
             }
@@ -181,8 +180,8 @@ mod tests {
     #[test]
     fn points_near_a_decision_box_face_blend_into_the_next_cascade() {
         let c = Cascades::around(Vec3::ZERO, 2, 32, 4.0, 2.0);
-        let h = c.cascades[0].min_cell[3];
-        let face = c.cascades[0].decision_max[0];
+        let h = c.cascades[0].cell;
+        let face = c.cascades[0].decision_hi.x;
         let deep = c.select(Vec3::new(face - 3.0 * h, 0.0, 0.0)).unwrap();
         assert_eq!((deep.cascade, deep.blend), (0, 0.0));
         let half = c.select(Vec3::new(face - h, 0.0, 0.0)).unwrap();

@@ -86,7 +86,9 @@ pub const METHODS: &[MethodEntry] = &[MethodEntry {
     description: "seed 001: dynamic radiance volumes, cascaded grids of SH light caches allocated every frame where the view needs them and lit by the RSM's virtual area lights",
     default: false,
     settings: SETTINGS,
-    settle_frames: |_| 1,
+    // Every frame is complete; the second lets the profile report the first frame's counters,
+    // which the host reads a frame late.
+    settle_frames: |_| 2,
     profile_axis: None,
     create: |setup, settings| Ok(Box::new(RadianceVolumes::new(setup, settings)?)),
 }];
@@ -159,7 +161,8 @@ impl RadianceVolumes {
         Ok(RadianceVolumes { settings, passes })
     }
 
-    /// The counters as the most recent finished frame left them.
+    /// The counters of the frame before the most recent finished one (the host copies them a
+    /// frame late, so every view records the same passes).
     pub fn state(&self) -> RvState {
         self.passes.last_state()
     }
@@ -174,8 +177,7 @@ impl GiMethod for RadianceVolumes {
         if view == 0 {
             // Every view of a frame shares the cascades: around the first view's eye (a CAVE's
             // walls all have the tracked head's).
-            self.passes
-                .record_start(rec, ctx.views[0].eye.position, &self.settings)?;
+            self.passes.place(ctx.views[0].eye.position, &self.settings);
         }
         self.passes
             .record_allocate(rec, &ctx.views[view], &self.settings)
@@ -186,9 +188,8 @@ impl GiMethod for RadianceVolumes {
     }
 
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
-        let last = view + 1 == ctx.views.len();
         self.passes
-            .record_apply(rec, &ctx.views[view], last, &self.settings)
+            .record_apply(rec, &ctx.views[view], &self.settings)
     }
 
     fn geometry_moved(
@@ -229,7 +230,7 @@ impl GiMethod for RadianceVolumes {
                 p.levels.len()
             ),
             format!(
-                "radiance volumes: {} caches held last frame, {} refused (cache buffer full), {} corners missing, {} pixels beyond the cascades",
+                "radiance volumes: {} caches held in the frame before the last, {} refused (cache buffer full), {} corners missing, {} pixels beyond the cascades",
                 state.held(s.capacity),
                 state.refused,
                 state.missing,

@@ -1,13 +1,18 @@
 //! The method's GPU state and passes: the address volume, the cache buffer and its counters,
 //! the RSM and its VAL mip chain, and the recording of a frame's allocation (per view), VALs,
 //! indirect dispatch, cache lighting, and apply (per view).
+//!
+//! Address volume and counters come in two sets, one per frame parity, so that every view
+//! records the same passes (a CAVE's walls, the conformance check): a frame's light work, after
+//! its allocations, copies the previous frame's counters for the host and empties that set for
+//! the next frame.
 
 use ash::vk;
 use bytemuck::{Pod, Zeroable};
 use gpu_allocator::MemoryLocation;
 
 use super::bindings as ids;
-use super::cascades::{Cascades, GpuCascade};
+use super::cascades::Cascades;
 use super::{Bands, VolumeSettings};
 use crate::gi::FrameContext;
 use crate::gi::shared::rsm::Rsm;
@@ -21,9 +26,11 @@ use crate::shaders;
 
 crate::push_constants! {
     struct AllocatePush {
+        eye_side: [f32; 4],
         size: [u32; 2],
         cascade_count: u32,
         resolution: u32,
+        transition: f32,
         capacity: u32,
         stride: u32,
     }
@@ -64,9 +71,11 @@ crate::push_constants! {
 
 crate::push_constants! {
     struct ApplyPush {
+        eye_side: [f32; 4],
         size: [u32; 2],
         cascade_count: u32,
         resolution: u32,
+        transition: f32,
         stride: u32,
         coefficients: u32,
     }
@@ -115,13 +124,16 @@ struct Pipelines {
 pub struct Passes {
     pipelines: Pipelines,
     pub rsm: Rsm,
-    /// (C·(N+1)³ corners): 0 no cache, index + 1, or the locked / refused marks.
-    pub address: Buffer,
+    /// Per frame parity (C·(N+1)³ corners): 0 no cache, index + 1, or the locked / refused
+    /// marks.
+    pub address: [Buffer; 2],
     /// Per cache: its position (w: cascade), then its SH coefficients (rgb), one vec4 each.
     pub caches: Buffer,
-    pub state: Buffer,
+    /// The counters, per frame parity.
+    pub state: [Buffer; 2],
     state_copy: Buffer,
-    pub cascade_buffer: Buffer,
+    /// The parity of the frame being recorded.
+    pub parity: usize,
     /// The VALs, every level of the chain, all layers.
     pub vals: Buffer,
     /// The chain's levels, the read level first.
@@ -162,28 +174,31 @@ impl Passes {
         check_buffer(gpu, "the cache buffer", cache_bytes)?;
         let first_side = first_cascade_side(scene, settings);
         let state_bytes = std::mem::size_of::<RvState>() as u64;
-        let passes = Passes {
-            pipelines,
-            rsm,
-            address: gpu.create_buffer(&BufferDesc::storage("rv address volume", corners * 4))?,
-            caches: gpu.create_buffer(&BufferDesc::storage("rv caches", cache_bytes))?,
-            state: gpu.create_buffer(&BufferDesc {
+        let state_buffer = |name| {
+            gpu.create_buffer(&BufferDesc {
                 usage: vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::INDIRECT_BUFFER
                     | vk::BufferUsageFlags::TRANSFER_DST
                     | vk::BufferUsageFlags::TRANSFER_SRC,
-                ..BufferDesc::storage("rv state", state_bytes)
-            })?,
+                ..BufferDesc::storage(name, state_bytes)
+            })
+        };
+        let passes = Passes {
+            pipelines,
+            rsm,
+            address: [
+                gpu.create_buffer(&BufferDesc::storage("rv address volume", corners * 4))?,
+                gpu.create_buffer(&BufferDesc::storage("rv address volume", corners * 4))?,
+            ],
+            caches: gpu.create_buffer(&BufferDesc::storage("rv caches", cache_bytes))?,
+            state: [state_buffer("rv state")?, state_buffer("rv state")?],
             state_copy: gpu.create_buffer(&BufferDesc {
                 name: "rv state (host copy)",
                 size: state_bytes,
                 usage: vk::BufferUsageFlags::TRANSFER_DST,
                 location: MemoryLocation::GpuToCpu,
             })?,
-            cascade_buffer: gpu.create_buffer(&BufferDesc::storage(
-                "rv cascades",
-                (super::cascades::MAX_CASCADES * std::mem::size_of::<GpuCascade>()) as u64,
-            ))?,
+            parity: 0,
             vals: gpu.create_buffer(&BufferDesc::storage("rv vals", val_bytes))?,
             levels,
             block,
@@ -197,7 +212,10 @@ impl Passes {
             first_side,
         };
         gpu.one_shot(|rec| {
-            rec.fill_buffer("rv state start", &passes.state, 0);
+            for set in 0..2 {
+                rec.fill_buffer("rv address start", &passes.address[set], ids::RV_EMPTY);
+                rec.fill_buffer("rv state start", &passes.state[set], 0);
+            }
             Ok(())
         })?;
         Ok(passes)
@@ -210,7 +228,7 @@ impl Passes {
         let rsm = texels * (40 * u64::from(self.rsm.layers) + 4);
         vec![
             ("caches", self.caches.size),
-            ("address volume", self.address.size),
+            ("address volumes", 2 * self.address[0].size),
             ("VAL chain", self.vals.size),
             ("RSM", rsm),
         ]
@@ -221,14 +239,9 @@ impl Passes {
         self.levels[0].side.pow(2) * self.rsm.layers
     }
 
-    /// Empty the address volume and counters and place this frame's cascades around `eye`
-    /// (before the first view's allocation).
-    pub fn record_start(
-        &mut self,
-        rec: &mut Recorder,
-        eye: glam::Vec3,
-        settings: &VolumeSettings,
-    ) -> GpuResult<()> {
+    /// Place this frame's cascades around `eye` (on the host: the shaders derive them from
+    /// the push constants).
+    pub fn place(&mut self, eye: glam::Vec3, settings: &VolumeSettings) {
         self.cascades = Cascades::around(
             eye,
             settings.cascades as usize,
@@ -236,14 +249,11 @@ impl Passes {
             self.first_side,
             settings.transition,
         );
-        rec.fill_buffer("rv clear address volume", &self.address, ids::RV_EMPTY);
-        rec.fill_buffer("rv clear counters", &self.state, 0);
-        rec.update_buffer(
-            "rv cascades",
-            &self.cascade_buffer,
-            bytemuck::cast_slice(&self.cascades.cascades),
-        );
-        Ok(())
+    }
+
+    /// The push constants' cascade centre and first side.
+    fn eye_side(&self) -> [f32; 4] {
+        self.cascades.eye.extend(self.first_side).to_array()
     }
 
     /// Allocate the caches view `view`'s lit pixels need.
@@ -258,15 +268,16 @@ impl Passes {
             pipeline: &self.pipelines.allocate,
             bindings: &[
                 Binding::image_read(ids::RV_GBUFFER_POSITION, &view.gbuffer.position),
-                Binding::write(ids::RV_ADDRESS, &self.address),
+                Binding::write(ids::RV_ADDRESS, &self.address[self.parity]),
                 Binding::write(ids::RV_CACHES, &self.caches),
-                Binding::write(ids::RV_STATE, &self.state),
-                Binding::read(ids::RV_CASCADES, &self.cascade_buffer),
+                Binding::write(ids::RV_STATE, &self.state[self.parity]),
             ],
             push: &AllocatePush {
+                eye_side: self.eye_side(),
                 size: [view.width(), view.height()],
                 cascade_count: settings.cascades,
                 resolution: settings.resolution,
+                transition: settings.transition,
                 capacity: settings.capacity,
                 stride: stride(settings.bands),
             },
@@ -274,9 +285,11 @@ impl Passes {
         })
     }
 
-    /// The RSM, its VALs and their chain, the indirect dispatch and the cache lighting.
+    /// The RSM, its VALs and their chain, the indirect dispatch and the cache lighting; then
+    /// the previous frame's counters copied for the host and its set emptied for the next
+    /// frame.
     pub fn record_light(
-        &self,
+        &mut self,
         rec: &mut Recorder,
         ctx: &FrameContext,
         settings: &VolumeSettings,
@@ -321,7 +334,7 @@ impl Passes {
         rec.compute(&ComputePass {
             name: "rv args",
             pipeline: &self.pipelines.args,
-            bindings: &[Binding::write(ids::RV_STATE, &self.state)],
+            bindings: &[Binding::write(ids::RV_STATE, &self.state[self.parity])],
             push: &ArgsPush {
                 capacity: settings.capacity,
             },
@@ -334,7 +347,7 @@ impl Passes {
                 bindings: &[
                     Binding::write(ids::RV_CACHES, &self.caches),
                     Binding::read(ids::RV_VALS, &self.vals),
-                    Binding::read(ids::RV_STATE, &self.state),
+                    Binding::read(ids::RV_STATE, &self.state[self.parity]),
                 ],
                 push: &LightPush {
                     capacity: settings.capacity,
@@ -344,20 +357,28 @@ impl Passes {
                 },
                 threads: [0; 3],
             },
-            &self.state,
+            &self.state[self.parity],
             0,
-        )
+        )?;
+        let previous = 1 - self.parity;
+        let state = &self.state[previous];
+        rec.copy_buffer("rv state copy", state, &self.state_copy, state.size);
+        rec.host_read(&self.state_copy);
+        rec.fill_buffer("rv clear address volume", &self.address[previous], ids::RV_EMPTY);
+        rec.fill_buffer("rv clear counters", state, 0);
+        self.parity = previous;
+        Ok(())
     }
 
-    /// Add view `view`'s cached indirect light to its HDR image; after the last view, copy
-    /// the counters where [`Passes::last_state`] reads them.
+    /// Add view `view`'s cached indirect light to its HDR image (after the frame's light work,
+    /// which flipped the parity: the set this frame allocated into is the other one).
     pub fn record_apply(
         &self,
         rec: &mut Recorder,
         view: &View,
-        last: bool,
         settings: &VolumeSettings,
     ) -> GpuResult<()> {
+        let set = 1 - self.parity;
         let g = &view.gbuffer;
         rec.compute(&ComputePass {
             name: "rv apply",
@@ -367,28 +388,29 @@ impl Passes {
                 Binding::image_read(ids::RV_GBUFFER_NORMAL, &g.normal),
                 Binding::image_read(ids::RV_GBUFFER_ALBEDO, &g.albedo),
                 Binding::image_write(ids::RV_HDR, &view.hdr),
-                Binding::read(ids::RV_ADDRESS, &self.address),
+                Binding::read(ids::RV_ADDRESS, &self.address[set]),
                 Binding::read(ids::RV_CACHES, &self.caches),
-                Binding::write(ids::RV_STATE, &self.state),
-                Binding::read(ids::RV_CASCADES, &self.cascade_buffer),
+                Binding::write(ids::RV_STATE, &self.state[set]),
             ],
             push: &ApplyPush {
+                eye_side: self.eye_side(),
                 size: [view.width(), view.height()],
                 cascade_count: settings.cascades,
                 resolution: settings.resolution,
+                transition: settings.transition,
                 stride: stride(settings.bands),
                 coefficients: settings.bands.coefficients(),
             },
             threads: [view.width(), view.height(), 1],
-        })?;
-        if last {
-            rec.copy_buffer("rv state copy", &self.state, &self.state_copy, self.state.size);
-            rec.host_read(&self.state_copy);
-        }
-        Ok(())
+        })
     }
 
-    /// The counters as the most recent finished frame left them (without waiting).
+    /// The set (address volume, counters) the most recently recorded frame used.
+    pub fn last_set(&self) -> usize {
+        1 - self.parity
+    }
+
+    /// The counters of the frame before the most recent finished one (without waiting).
     pub fn last_state(&self) -> RvState {
         self.state_copy.mapped_value().unwrap_or_default()
     }
