@@ -125,6 +125,8 @@ fn vals_caches_and_apply_match_their_f64_references_and_the_brute_force_gather()
         .to_vec();
     assert!(errors[0] > errors[1] && errors[1] > errors[2], "{errors:?}");
     assert!(errors[2] < 0.1, "{errors:?}");
+    // The default two bands pass the same f64 checks.
+    verify_against_f64(&gpu, &scene, settings(Bands::L1, 32, 16384));
     common::assert_no_validation_errors(&gpu);
 }
 
@@ -219,14 +221,36 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
                 .collect();
             let expected = Val::merge(&children);
             let got = vals[next.first as usize + y * next.side as usize + x];
+            assert_eq!(got.texels, expected.texels);
+            if expected.texels == 0.0 {
+                continue;
+            }
+            let what = format!("level 1 VAL {x},{y}");
             assert_close_vec(
                 got.flux,
                 expected.flux,
-                expected.flux.max_element().max(1e-30),
+                expected.flux.max_element(),
                 1e-5,
-                "level 1 flux",
+                &what,
             );
-            assert_eq!(got.texels, expected.texels);
+            assert_close_vec(got.position, expected.position, expected.depth, 1e-5, &what);
+            assert_close_vec(
+                got.normal_sum,
+                expected.normal_sum,
+                expected.texels,
+                1e-5,
+                &what,
+            );
+            assert!(
+                (got.area - expected.area).abs() < 1e-5 * expected.area,
+                "{what} area"
+            );
+            assert!(
+                (got.depth - expected.depth).abs() < 1e-5 * expected.depth,
+                "{what}"
+            );
+            let d2 = expected.depth_squared;
+            assert!((got.depth_squared - d2).abs() < 1e-5 * d2, "{what}");
         }
     }
 

@@ -76,7 +76,9 @@ void main() {
         atomicAdd(state.beyond, 1u);
         return;
     }
-    vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
+    vec3 stored = imageLoad(gbuffer_normal, pixel).xyz;
+    if (!(dot(stored, stored) > 0.0)) return;
+    vec3 n = normalize(stored);
     uint missing = 0u;
     vec3 e = interpolate(cascade, position.xyz, n, missing);
     if (blend > 0.0) e = mix(e, interpolate(cascade + 1u, position.xyz, n, missing), blend);

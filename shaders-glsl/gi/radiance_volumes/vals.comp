@@ -40,7 +40,7 @@ void main() {
             if (p.w == 0.0) continue;
             vec3 to = p.xyz - view.origin.xyz;
             float d = length(to);
-            float cos_axis = max(dot(view.axis_light.xyz, to / d), 0.0);
+            float cos_axis = d > 0.0 ? max(dot(view.axis_light.xyz, to / d), 0.0) : 0.0;
             position += p.xyz;
             normal += imageLoad(rsm_normal, t).xyz;
             flux += imageLoad(rsm_flux, t).rgb;
