@@ -27,6 +27,7 @@ layout(push_constant) uniform Push {
     float transition;
     uint stride;
     uint coefficients;
+    uint front_only;    // leave out corners behind the pixel's surface
 } pc;
 
 RvGrid grid() {
@@ -47,12 +48,20 @@ vec3 interpolate(uint cascade, vec3 p, vec3 n, inout uint missing) {
     uvec3 g;
     vec3 f;
     rv_cell(grid(), cascade, p, g, f);
+    float cell = rv_cascade(grid(), cascade).cell;
     vec3 sum = vec3(0.0);
     float weights = 0.0;
     for (uint k = 0u; k < 8u; ++k) {
         uvec3 corner = uvec3(k & 1u, (k >> 1) & 1u, k >> 2);
         vec3 axis = mix(1.0 - f, f, vec3(corner));
         float w = axis.x * axis.y * axis.z;
+        if (pc.front_only != 0u) {
+            // A corner behind the pixel's surface may lie inside the object or beyond the wall
+            // it belongs to: it is left out (its light would leak or be shadowed by that
+            // surface).
+            vec3 at = rv_corner_position(grid(), cascade, g + corner);
+            if (dot(at - p, n) < -1e-3 * cell) continue;
+        }
         uint value = address[rv_corner_index(cascade, g + corner, pc.resolution)];
         if (value == RV_EMPTY || value == RV_LOCKED) {
             missing += 1u;

@@ -1,9 +1,13 @@
 #version 460
-// Cache lighting (spec 001 §4.4): one thread per cache held, dispatched indirectly. Every VAL of
-// every light view sends the cache its perpendicular irradiance Φ/π · max(0, n·(-ω)) / (r² + A)
-// from direction ω, projected as a delta lobe onto 2 or 3 SH bands. VALs are loaded into shared
-// memory RV_LIGHT_GROUP at a time, each thread then reads all of them.
+// Cache lighting (spec 001 §4.4, §4.6): one thread per cache held, dispatched indirectly. Every
+// VAL of every light view sends the cache its perpendicular irradiance Φ/π · max(0, n·(-ω)) /
+// (r² + A) from direction ω, projected as a delta lobe onto 2 or 3 SH bands, and times the
+// visibility of its block: VALs are visited in Morton order within each light view, so every
+// run of B² = 4^shadow_level VALs is one block, whose mean VAL (level `shadow_level` of the
+// chain) one cone is traced to through the occupancy mips. VALs are loaded into shared memory
+// RV_LIGHT_GROUP at a time, each thread then reads all of them.
 #include "common/math.glsl"
+#include "common/lights.glsl"
 #include "gi/shared/sh.glsl"
 #include "gi/radiance_volumes/state.glsl"
 #include "gi/radiance_volumes/val.glsl"
@@ -13,17 +17,59 @@ layout(local_size_x = RV_LIGHT_GROUP) in;
 layout(binding = RV_CACHES, std430) buffer Caches { vec4 caches[]; };
 layout(binding = RV_VALS, std430) readonly buffer Vals { Val vals[]; };
 layout(binding = RV_STATE, std430) readonly buffer State { RvState state; };
+layout(binding = RV_VOXELS, std430) readonly buffer Voxels { float voxels[]; };
+layout(binding = RV_SHADOW_VIEWS, std430) readonly buffer ShadowViews { ShadowView views[]; };
+#include "gi/radiance_volumes/voxel.glsl"
 
 layout(push_constant) uniform Push {
+    vec4 voxel_lo_size;   // the voxel cube's minimum corner, a voxel's side
     uint capacity;
     uint stride;
-    uint coefficients;  // 4 (L1) or 9 (L2)
-    uint val_count;     // VALs of the read level, all layers
+    uint coefficients;    // 4 (L1) or 9 (L2)
+    uint side;            // VALs per layer side of the read level
+    uint layers;
+    uint voxel_resolution;
+    uint voxel_levels;
+    uint shadow_level;    // chain level of the blocks' mean VALs (B = 2^shadow_level)
+    uint shadow_first;    // first VAL of that level
+    uint shadows;         // 0: every VAL visible
 } pc;
 
 shared vec4 shared_position_area[RV_LIGHT_GROUP];
 shared vec4 shared_normal[RV_LIGHT_GROUP];  // w: 1 for a VAL that sent light, 0 otherwise
 shared vec3 shared_flux[RV_LIGHT_GROUP];    // flux / pi
+
+// The other bits of a Morton code's even (x) or odd (y) positions.
+uint compact_bits(uint m) {
+    m &= 0x55555555u;
+    m = (m | (m >> 1)) & 0x33333333u;
+    m = (m | (m >> 2)) & 0x0F0F0F0Fu;
+    m = (m | (m >> 4)) & 0x00FF00FFu;
+    m = (m | (m >> 8)) & 0x0000FFFFu;
+    return m;
+}
+
+// The read-level VAL at Morton position j (layer-major), and its texel coordinates.
+uvec3 morton_val(uint j) {
+    uint per_layer = pc.side * pc.side;
+    uint m = j % per_layer;
+    return uvec3(compact_bits(m), compact_bits(m >> 1), j / per_layer);
+}
+
+// Visibility from x to the mean VAL of the block holding read-level VAL (xy, layer).
+float block_visibility(VoxelGrid grid, vec3 x, uvec3 val) {
+    uint side = pc.side >> pc.shadow_level;
+    uvec2 block = val.xy >> pc.shadow_level;
+    Val mean = vals[pc.shadow_first + (val.z * side + block.y) * side + block.x];
+    if (mean.position_texels.w == 0.0) return 1.0;
+    float d = mean.flux_depth.w;
+    float sigma = sqrt(max(mean.depth_squared.x - d * d, 0.0));
+    // The block's angular width from the light, or two standard deviations of its depth,
+    // whichever is wider (spec 001 §4.6 step 2; the view's extent uses tan, not sin).
+    float width = views[val.z].params.w / float(side);
+    float s = clamp(max(width, 2.0 * sigma / max(d, 1e-30)), 0.01, 0.95);
+    return cone_visibility(grid, x, mean.position_texels.xyz, s);
+}
 
 void main() {
     uint held = min(state.requested, pc.capacity);
@@ -31,13 +77,19 @@ void main() {
     uint local = gl_LocalInvocationID.x;
     bool holds_cache = index < held;
     vec3 x = holds_cache ? caches[index * pc.stride].xyz : vec3(0.0);
+    VoxelGrid grid = VoxelGrid(pc.voxel_lo_size.xyz, pc.voxel_lo_size.w, pc.voxel_resolution,
+                               pc.voxel_levels);
+    uint block_mask = (1u << (2u * pc.shadow_level)) - 1u;
+    uint val_count = pc.side * pc.side * pc.layers;
+    float visibility = 1.0;
     vec3 c[SH_L2_COEFFICIENTS];
     for (uint i = 0u; i < SH_L2_COEFFICIENTS; ++i) c[i] = vec3(0.0);
-    for (uint base = 0u; base < pc.val_count; base += RV_LIGHT_GROUP) {
+    for (uint base = 0u; base < val_count; base += RV_LIGHT_GROUP) {
         uint j = base + local;
         vec4 normal = vec4(0.0);
-        if (j < pc.val_count) {
-            Val v = vals[j];
+        if (j < val_count) {
+            uvec3 at = morton_val(j);
+            Val v = vals[(at.z * pc.side + at.y) * pc.side + at.x];
             float len = length(v.normal_area.xyz);
             bool lit = v.position_texels.w > 0.0 && len > 0.0;
             shared_position_area[local] = vec4(v.position_texels.xyz, v.normal_area.w);
@@ -47,10 +99,14 @@ void main() {
         shared_normal[local] = normal;
         barrier();
         if (holds_cache) {
-            uint batch = min(RV_LIGHT_GROUP, pc.val_count - base);
+            uint batch = min(RV_LIGHT_GROUP, val_count - base);
             for (uint t = 0u; t < batch; ++t) {
+                uint j = base + t;
+                if (pc.shadows != 0u && ((j % (pc.side * pc.side)) & block_mask) == 0u) {
+                    visibility = block_visibility(grid, x, morton_val(j));
+                }
                 vec4 n = shared_normal[t];
-                if (n.w == 0.0) continue;
+                if (n.w == 0.0 || visibility == 0.0) continue;
                 vec4 pa = shared_position_area[t];
                 vec3 to = pa.xyz - x;
                 float r2 = dot(to, to);
@@ -58,7 +114,7 @@ void main() {
                 vec3 w = to * inversesqrt(r2);
                 float cos_val = dot(n.xyz, -w);
                 if (cos_val <= 0.0) continue;
-                vec3 e = shared_flux[t] * (cos_val / (r2 + pa.w));
+                vec3 e = shared_flux[t] * (visibility * cos_val / (r2 + pa.w));
                 float y[SH_L2_COEFFICIENTS];
                 sh_l2_basis(w, y);
                 for (uint i = 0u; i < pc.coefficients; ++i) c[i] += e * y[i];

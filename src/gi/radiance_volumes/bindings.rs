@@ -14,6 +14,10 @@ crate::shared_constants! {
     RV_RSM_NORMAL: u32 = 10;
     RV_RSM_FLUX: u32 = 11;
     RV_SHADOW_VIEWS: u32 = 12;
+    RV_VERTICES: u32 = 13;
+    RV_TRIANGLES: u32 = 14;
+    RV_VOXEL_TARGET: u32 = 15;
+    RV_VOXELS: u32 = 16;
     /// Side of the allocation pass's pixel tiles (spec 001 §4.2).
     RV_TILE: u32 = 16;
     /// Threads of the cache-lighting workgroups (one cache each; VALs are loaded this many at

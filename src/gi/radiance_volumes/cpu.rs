@@ -1,9 +1,11 @@
 //! The method's core in f64, which the GPU passes are tested against: virtual area lights (VALs)
 //! made from blocks of RSM texels, the light one VAL sends to a cache, its SH projection, the
-//! irradiance reconstructed from the coefficients, and the brute-force gather over every VAL.
+//! irradiance reconstructed from the coefficients, the apply pass's interpolation of corner
+//! caches, and the brute-force gather over every VAL.
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 
+use super::cascades::Cascades;
 use crate::gi::shared::sh;
 
 /// One virtual area light: a block of RSM texels (spec 001 §4.3) seen as one emitter.
@@ -105,12 +107,23 @@ impl Val {
 /// The SH coefficients (`bands`² of them, RGB) of the radiance the VALs send to `x`, each a
 /// delta lobe of its perpendicular irradiance along its direction.
 pub fn project(vals: &[Val], x: DVec3, bands: usize) -> Vec<DVec3> {
+    project_visible(vals, x, bands, |_| 1.0)
+}
+
+/// [`project`] with VAL `j`'s light scaled by `visibility(j)` (the light pass with shadows).
+pub fn project_visible(
+    vals: &[Val],
+    x: DVec3,
+    bands: usize,
+    mut visibility: impl FnMut(usize) -> f64,
+) -> Vec<DVec3> {
     let mut c = vec![DVec3::ZERO; bands * bands];
-    for val in vals {
+    for (j, val) in vals.iter().enumerate() {
         if let Some((w, e)) = val.perpendicular_irradiance(x) {
             let y = sh::basis_l2(w);
+            let v = visibility(j);
             for (ci, yi) in c.iter_mut().zip(y) {
-                *ci += e * yi;
+                *ci += e * (v * yi);
             }
         }
     }
@@ -135,6 +148,36 @@ pub fn gather(vals: &[Val], x: DVec3, n: DVec3) -> DVec3 {
         .filter_map(|v| v.perpendicular_irradiance(x))
         .map(|(w, e)| e * n.dot(w).max(0.0))
         .sum()
+}
+
+/// Irradiance at `x` (normal `n`) interpolated from the caches at the corners of its cell in
+/// cascade `i`, as the apply pass does: trilinear weights, each cache's irradiance (from
+/// `cache_at`, given the corner's address-volume index; None for a corner without one) clamped
+/// first, corners behind the surface left out when `front_only`, the weights renormalised.
+pub fn interpolate(
+    cascades: &Cascades,
+    (i, x, n): (usize, Vec3, DVec3),
+    front_only: bool,
+    cache_at: impl Fn(usize) -> Option<DVec3>,
+) -> DVec3 {
+    let (cell, f) = cascades.cell(i, x);
+    let size = f64::from(cascades.cascades[i].cell);
+    let (mut sum, mut weights) = (DVec3::ZERO, 0.0);
+    for k in 0..8u32 {
+        let corner = [k & 1, (k >> 1) & 1, k >> 2];
+        let at = [0, 1, 2].map(|a| cell[a] + corner[a]);
+        if front_only && (cascades.corner_position(i, at) - x).as_dvec3().dot(n) < -1e-3 * size {
+            continue;
+        }
+        let w: f64 = (0..3)
+            .map(|a| f64::from(if corner[a] == 1 { f[a] } else { 1.0 - f[a] }))
+            .product();
+        if let Some(e) = cache_at(cascades.corner_index(i, at)) {
+            sum += e * w;
+            weights += w;
+        }
+    }
+    if weights > 0.0 { sum / weights } else { DVec3::ZERO }
 }
 
 #[cfg(test)]

@@ -10,6 +10,7 @@ pub mod bindings;
 pub mod cascades;
 pub mod cpu;
 pub mod passes;
+pub mod voxels;
 
 use crate::error::InputError;
 use crate::gi::registry::{MethodEntry, Setup};
@@ -79,6 +80,36 @@ const SETTINGS: &[Setting] = &[
         "4096",
         "Virtual area lights a frame may light the caches with: the RSM is read at the finest mip level whose texels over all light views number at most this (the public code: 64² of one spot light)",
     ),
+    Setting::new(
+        "corners",
+        Kind::Choice(&["front", "all"]),
+        "front",
+        "Which of a pixel's 8 corner caches it interpolates: those in front of its surface (corners behind it may sit inside the object or beyond a wall), or all (the public code)",
+    ),
+    Setting::new(
+        "indirect-shadows",
+        Kind::Choice(&["on", "off"]),
+        "on",
+        "Cone-trace each block of VALs' visibility through a voxelisation of the scene (off: every VAL reaches every cache)",
+    ),
+    Setting::new(
+        "voxels",
+        Kind::Choice(&["32", "64", "128", "256"]),
+        "128",
+        "Voxels per side of the cube around the scene the shadow cones march through",
+    ),
+    Setting::new(
+        "shadow-lod",
+        Kind::Int { min: 0, max: 8 },
+        "2",
+        "One shadow cone per 2^L x 2^L block of VALs, aimed at the block's mean VAL",
+    ),
+    Setting::new(
+        "voxel-fade",
+        Kind::Int { min: 1, max: 120 },
+        "3",
+        "Frames over which a voxel fades between empty and full after geometry moves (the public code: 0.1 s; 1: at once)",
+    ),
 ];
 
 pub const METHODS: &[MethodEntry] = &[MethodEntry {
@@ -86,9 +117,9 @@ pub const METHODS: &[MethodEntry] = &[MethodEntry {
     description: "seed 001: dynamic radiance volumes, cascaded grids of SH light caches allocated every frame where the view needs them and lit by the RSM's virtual area lights",
     default: false,
     settings: SETTINGS,
-    // Every frame is complete; the second lets the profile report the first frame's counters,
-    // which the host reads a frame late.
-    settle_frames: |_| 2,
+    // Every frame is complete but for voxels fading after geometry moved; a second frame lets
+    // the profile report the first frame's counters, which the host reads a frame late.
+    settle_frames: |settings| settings.u32("voxel-fade").unwrap_or(1).max(1) + 1,
     profile_axis: None,
     create: |setup, settings| Ok(Box::new(RadianceVolumes::new(setup, settings)?)),
 }];
@@ -122,11 +153,22 @@ pub struct VolumeSettings {
     pub bands: Bands,
     pub rsm: u32,
     pub val_budget: u32,
+    /// Interpolate only the corners in front of the pixel's surface.
+    pub front_corners: bool,
+    pub shadows: bool,
+    pub voxels: u32,
+    pub shadow_lod: u32,
+    pub voxel_fade: u32,
 }
 
 impl VolumeSettings {
     pub fn parse(settings: &Settings) -> Result<Self, InputError> {
         let rsm = settings.text("rsm")?;
+        // Choices of whole numbers (powers of two), already checked against their lists.
+        let parse_whole = |name: &str, text: &str| {
+            text.parse::<u32>()
+                .map_err(|_| InputError::new(format!("--{name} {text}: not a whole number")))
+        };
         Ok(VolumeSettings {
             cascades: settings.u32("cascades")?,
             resolution: settings.u32("resolution")?,
@@ -138,10 +180,13 @@ impl VolumeSettings {
             } else {
                 Bands::L1
             },
-            rsm: rsm
-                .parse()
-                .map_err(|_| InputError::new(format!("--rsm {rsm}: not a whole number")))?,
+            rsm: parse_whole("rsm", rsm)?,
             val_budget: settings.u32("vals")?,
+            front_corners: settings.text("corners")? == "front",
+            shadows: settings.text("indirect-shadows")? == "on",
+            voxels: parse_whole("voxels", settings.text("voxels")?)?,
+            shadow_lod: settings.u32("shadow-lod")?,
+            voxel_fade: settings.u32("voxel-fade")?,
         })
     }
 }
@@ -229,6 +274,22 @@ impl GiMethod for RadianceVolumes {
                 p.block,
                 p.levels.len()
             ),
+            if s.shadows {
+                let g = &p.voxels.grid;
+                let (level, chain) = p.shadow_level(s);
+                format!(
+                    "radiance volumes: indirect shadows through {}³ voxels of {:.4} ({} levels), one cone per {}x{} VALs ({} cones per cache), voxels fade over {} frame(s)",
+                    g.resolution,
+                    g.voxel,
+                    g.levels(),
+                    1u32 << level,
+                    1u32 << level,
+                    chain.side.pow(2) * p.rsm.layers,
+                    s.voxel_fade
+                )
+            } else {
+                "radiance volumes: no indirect shadows (every VAL reaches every cache)".into()
+            },
             format!(
                 "radiance volumes: {} caches held in the frame before the last, {} refused (cache buffer full), {} corners missing, {} pixels beyond the cascades",
                 state.held(s.capacity),

@@ -13,6 +13,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::bindings as ids;
 use super::cascades::Cascades;
+use super::voxels::VoxelGrid;
 use super::{Bands, VolumeSettings};
 use crate::gi::FrameContext;
 use crate::gi::shared::rsm::Rsm;
@@ -62,10 +63,40 @@ crate::push_constants! {
 
 crate::push_constants! {
     struct LightPush {
+        voxel_lo_size: [f32; 4],
         capacity: u32,
         stride: u32,
         coefficients: u32,
-        val_count: u32,
+        side: u32,
+        layers: u32,
+        voxel_resolution: u32,
+        voxel_levels: u32,
+        shadow_level: u32,
+        shadow_first: u32,
+        shadows: u32,
+    }
+}
+
+crate::push_constants! {
+    struct VoxelizePush {
+        lo_voxel: [f32; 4],
+        resolution: u32,
+        triangle_count: u32,
+    }
+}
+
+crate::push_constants! {
+    struct AdaptPush {
+        count: u32,
+        step: f32,
+    }
+}
+
+crate::push_constants! {
+    struct VoxelMipsPush {
+        source: u32,
+        target: u32,
+        side: u32,
     }
 }
 
@@ -78,6 +109,7 @@ crate::push_constants! {
         transition: f32,
         stride: u32,
         coefficients: u32,
+        front_only: u32,
     }
 }
 
@@ -119,6 +151,20 @@ struct Pipelines {
     reduce: ComputePipeline,
     light: ComputePipeline,
     apply: ComputePipeline,
+    voxelize: ComputePipeline,
+    adapt: ComputePipeline,
+    voxel_mips: ComputePipeline,
+}
+
+/// The voxelisation the shadow cones march through (spec 001 §4.6).
+pub struct Voxels {
+    pub grid: VoxelGrid,
+    /// The binary target of the last voxelisation, one u32 per voxel of level 0.
+    pub target: Buffer,
+    /// The adapted occupancy, every level of the mip chain (f32).
+    pub volume: Buffer,
+    /// Frames of adaptation left since the geometry last changed.
+    fade_left: u32,
 }
 
 pub struct Passes {
@@ -134,6 +180,7 @@ pub struct Passes {
     state_copy: Buffer,
     /// The parity of the frame being recorded.
     pub parity: usize,
+    pub voxels: Voxels,
     /// The VALs, every level of the chain, all layers.
     pub vals: Buffer,
     /// The chain's levels, the read level first.
@@ -162,6 +209,25 @@ impl Passes {
             reduce: compute("rv reduce", shaders::GI_RADIANCE_VOLUMES_REDUCE_COMP)?,
             light: compute("rv light", shaders::GI_RADIANCE_VOLUMES_LIGHT_COMP)?,
             apply: compute("rv apply", shaders::GI_RADIANCE_VOLUMES_APPLY_COMP)?,
+            voxelize: compute("rv voxelize", shaders::GI_RADIANCE_VOLUMES_VOXELIZE_COMP)?,
+            adapt: compute("rv adapt", shaders::GI_RADIANCE_VOLUMES_ADAPT_COMP)?,
+            voxel_mips: compute("rv voxel mips", shaders::GI_RADIANCE_VOLUMES_VOXEL_MIPS_COMP)?,
+        };
+        // Without shadows the lighting pass still binds a (one-voxel, empty) volume.
+        let grid = VoxelGrid::fit(
+            scene.bounds_min,
+            scene.bounds_max,
+            if settings.shadows { settings.voxels } else { 1 },
+        );
+        let target_bytes = grid.side(0).pow(3) as u64 * 4;
+        let volume_bytes = grid.total() as u64 * 4;
+        check_buffer(gpu, "the voxel target", target_bytes)?;
+        check_buffer(gpu, "the voxel mip chain", volume_bytes)?;
+        let voxels = Voxels {
+            grid,
+            target: gpu.create_buffer(&BufferDesc::storage("rv voxel target", target_bytes))?,
+            volume: gpu.create_buffer(&BufferDesc::storage("rv voxels", volume_bytes))?,
+            fade_left: 0,
         };
         let rsm = Rsm::new(gpu, scene, settings.rsm)?;
         let (block, levels) = val_chain(settings.rsm, rsm.layers, settings.val_budget);
@@ -199,6 +265,7 @@ impl Passes {
                 location: MemoryLocation::GpuToCpu,
             })?,
             parity: 0,
+            voxels,
             vals: gpu.create_buffer(&BufferDesc::storage("rv vals", val_bytes))?,
             levels,
             block,
@@ -216,6 +283,7 @@ impl Passes {
                 rec.fill_buffer("rv address start", &passes.address[set], ids::RV_EMPTY);
                 rec.fill_buffer("rv state start", &passes.state[set], 0);
             }
+            rec.fill_buffer("rv voxels start", &passes.voxels.volume, 0);
             Ok(())
         })?;
         Ok(passes)
@@ -230,6 +298,7 @@ impl Passes {
             ("caches", self.caches.size),
             ("address volumes", 2 * self.address[0].size),
             ("VAL chain", self.vals.size),
+            ("voxels", self.voxels.target.size + self.voxels.volume.size),
             ("RSM", rsm),
         ]
     }
@@ -294,6 +363,9 @@ impl Passes {
         ctx: &FrameContext,
         settings: &VolumeSettings,
     ) -> GpuResult<()> {
+        if settings.shadows {
+            self.record_voxels(rec, ctx, settings)?;
+        }
         self.rsm.record(rec, ctx)?;
         let layers = self.rsm.layers;
         let read = self.levels[0];
@@ -340,6 +412,8 @@ impl Passes {
             },
             threads: [1, 1, 1],
         })?;
+        let grid = self.voxels.grid;
+        let shadow = self.shadow_level(settings);
         rec.compute_indirect(
             &ComputePass {
                 name: "rv light",
@@ -348,12 +422,21 @@ impl Passes {
                     Binding::write(ids::RV_CACHES, &self.caches),
                     Binding::read(ids::RV_VALS, &self.vals),
                     Binding::read(ids::RV_STATE, &self.state[self.parity]),
+                    Binding::read(ids::RV_VOXELS, &self.voxels.volume),
+                    Binding::read(ids::RV_SHADOW_VIEWS, &ctx.scene.shadow_views),
                 ],
                 push: &LightPush {
+                    voxel_lo_size: grid.min.extend(grid.voxel).to_array(),
                     capacity: settings.capacity,
                     stride: stride(settings.bands),
                     coefficients: settings.bands.coefficients(),
-                    val_count: self.val_count(),
+                    side: read.side,
+                    layers,
+                    voxel_resolution: grid.resolution,
+                    voxel_levels: grid.levels(),
+                    shadow_level: shadow.0,
+                    shadow_first: shadow.1.first,
+                    shadows: u32::from(settings.shadows),
                 },
                 threads: [0; 3],
             },
@@ -367,6 +450,84 @@ impl Passes {
         rec.fill_buffer("rv clear address volume", &self.address[previous], ids::RV_EMPTY);
         rec.fill_buffer("rv clear counters", state, 0);
         self.parity = previous;
+        Ok(())
+    }
+
+    /// The chain level of the shadow cones' blocks (`--shadow-lod`, at most the chain's last)
+    /// and that level.
+    pub fn shadow_level(&self, settings: &VolumeSettings) -> (u32, ValLevel) {
+        let level = settings.shadow_lod.min(self.levels.len() as u32 - 1);
+        (level, self.levels[level as usize])
+    }
+
+    /// Voxelise the scene again where its geometry changed, and move the occupancy toward it
+    /// for `--voxel-fade` frames (at once on the method's first frame), mips included.
+    fn record_voxels(
+        &mut self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        settings: &VolumeSettings,
+    ) -> GpuResult<()> {
+        let grid = self.voxels.grid;
+        let first = ctx.frame == 0;
+        if first || ctx.changes.geometry {
+            rec.fill_buffer("rv clear voxel target", &self.voxels.target, 0);
+            let triangles = ctx.scene.vertex_count / 3;
+            rec.compute(&ComputePass {
+                name: "rv voxelize",
+                pipeline: &self.pipelines.voxelize,
+                bindings: &[
+                    Binding::read(ids::RV_VERTICES, &ctx.scene.vertices),
+                    Binding::read(ids::RV_TRIANGLES, &ctx.scene.triangles),
+                    Binding::write(ids::RV_VOXEL_TARGET, &self.voxels.target),
+                ],
+                push: &VoxelizePush {
+                    lo_voxel: grid.min.extend(grid.voxel).to_array(),
+                    resolution: grid.resolution,
+                    triangle_count: triangles,
+                },
+                threads: [triangles, 1, 1],
+            })?;
+            self.voxels.fade_left = if first { 1 } else { settings.voxel_fade };
+        }
+        if self.voxels.fade_left == 0 {
+            return Ok(());
+        }
+        let count = grid.side(0).pow(3) as u32;
+        rec.compute(&ComputePass {
+            name: "rv adapt",
+            pipeline: &self.pipelines.adapt,
+            bindings: &[
+                Binding::read(ids::RV_VOXEL_TARGET, &self.voxels.target),
+                Binding::write(ids::RV_VOXELS, &self.voxels.volume),
+            ],
+            push: &AdaptPush {
+                count,
+                step: if first {
+                    1.0
+                } else {
+                    1.0 / settings.voxel_fade as f32
+                },
+            },
+            threads: [count, 1, 1],
+        })?;
+        for level in 1..grid.levels() {
+            let side = grid.side(level) as u32;
+            rec.in_step(level, |rec| {
+                rec.compute(&ComputePass {
+                    name: "rv voxel mips",
+                    pipeline: &self.pipelines.voxel_mips,
+                    bindings: &[Binding::write(ids::RV_VOXELS, &self.voxels.volume)],
+                    push: &VoxelMipsPush {
+                        source: grid.offset(level - 1) as u32,
+                        target: grid.offset(level) as u32,
+                        side,
+                    },
+                    threads: [side, side, side],
+                })
+            })?;
+        }
+        self.voxels.fade_left -= 1;
         Ok(())
     }
 
@@ -400,6 +561,7 @@ impl Passes {
                 transition: settings.transition,
                 stride: stride(settings.bands),
                 coefficients: settings.bands.coefficients(),
+                front_only: u32::from(settings.front_corners),
             },
             threads: [view.width(), view.height(), 1],
         })
