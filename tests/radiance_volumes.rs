@@ -31,7 +31,7 @@ fn settings(bands: Bands, resolution: u32, capacity: u32) -> VolumeSettings {
         bands,
         rsm: 128,
         val_budget: 1024,
-        front_corners: true,
+        front_corners: false,
         shadows: false,
         voxels: 64,
         shadow_lod: 2,
@@ -409,11 +409,23 @@ fn read_voxels(gpu: &Gpu, rv: &RadianceVolumes) -> (Vec<f64>, Vec<u32>) {
 fn shadowed_caches_match_the_f64_cone_march_through_the_gpu_voxels() {
     let gpu = &common::gpu();
     let scene = Scene::load("cornell").unwrap();
-    let s = VolumeSettings {
-        shadows: true,
-        ..settings(Bands::L1, 16, 16384)
-    };
-    let (frame, rv) = run(gpu, &scene, s);
+    // The defaults' 64² VALs of the spot light, one cone per 4x4 of them and one per VAL (the
+    // narrowest cones, the longest marches: where lavapipe went wrong past 16 samples).
+    for shadow_lod in [2, 0] {
+        let s = VolumeSettings {
+            shadows: true,
+            shadow_lod,
+            val_budget: 4096,
+            rsm: 256,
+            ..settings(Bands::L1, 16, 16384)
+        };
+        verify_shadowed(gpu, &scene, s);
+    }
+    common::assert_no_validation_errors(gpu);
+}
+
+fn verify_shadowed(gpu: &Gpu, scene: &Scene, s: VolumeSettings) {
+    let (frame, rv) = run(gpu, scene, s);
     let p = &rv.passes;
     let grid = p.voxels.grid;
     let (chain, target) = read_voxels(gpu, &rv);
@@ -453,7 +465,8 @@ fn shadowed_caches_match_the_f64_cone_march_through_the_gpu_voxels() {
                 }
                 let s =
                     voxels::block_aperture(f64::from(views[layer].params[3]), blocks.side, &mean);
-                voxels::cone_visibility(&grid, &chain, *x, mean.position, s)
+                let normal = (mean.normal_sum + DVec3::new(0.0, 0.0, 1e-30)).normalize();
+                voxels::cone_visibility(&grid, &chain, (*x, mean.position, normal), s)
             })
         });
         if block_visibility.values().any(|v| *v < 0.5) {
@@ -470,7 +483,6 @@ fn shadowed_caches_match_the_f64_cone_march_through_the_gpu_voxels() {
         caches.len()
     );
     assert!(shadowed > caches.len() / 20, "{shadowed} caches shadowed");
-    common::assert_no_validation_errors(gpu);
 }
 
 #[test]
@@ -545,9 +557,10 @@ fn indirect_shadows_keep_the_light_of_one_room_out_of_the_other() {
     let mut scene = Scene::load("two-rooms").unwrap();
     scene.camera.position = Vec3::new(8.1, 1.7, 0.4);
     scene.camera.target = Vec3::new(5.0, 1.0, 3.0);
-    let mean = |shadows: bool| {
+    let mean = |shadows: bool, shadow_lod: u32| {
         let s = VolumeSettings {
             shadows,
+            shadow_lod,
             voxels: 128,
             ..settings(Bands::L1, 32, 16384)
         };
@@ -555,10 +568,13 @@ fn indirect_shadows_keep_the_light_of_one_room_out_of_the_other() {
         let hdr = frame.read_hdr(gpu).unwrap();
         hdr.iter().flatten().map(|&v| f64::from(v)).sum::<f64>() / (3 * hdr.len()) as f64
     };
-    let (open, shadowed) = (mean(false), mean(true));
-    eprintln!("dark room's mean indirect light: {open:.5} without shadows, {shadowed:.5} with");
-    // Measured: 0.0108 without, 0.0067 with (wide cones skip over the hollow shell of voxels the
-    // wall becomes; docs/radiance-volumes.md).
-    assert!(shadowed < 0.7 * open, "{shadowed} vs {open}");
+    let (open, blocks, narrow) = (mean(false, 2), mean(true, 2), mean(true, 1));
+    eprintln!(
+        "dark room's mean indirect light: {open:.5} without shadows, {blocks:.5} with a cone per 4x4 VALs, {narrow:.5} per 2x2"
+    );
+    // Measured: 0.0108, 0.0071 and 0.0049. Wide cones skip over the hollow shell of voxels
+    // the wall becomes; narrower ones leak less (docs/radiance-volumes.md).
+    assert!(blocks < 0.8 * open, "{blocks} vs {open}");
+    assert!(narrow < 0.8 * blocks, "{narrow} vs {blocks}");
     common::assert_no_validation_errors(gpu);
 }

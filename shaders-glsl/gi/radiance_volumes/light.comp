@@ -33,6 +33,7 @@ layout(push_constant) uniform Push {
     uint shadow_level;    // chain level of the blocks' mean VALs (B = 2^shadow_level)
     uint shadow_first;    // first VAL of that level
     uint shadows;         // 0: every VAL visible
+    uint cone_steps;      // most samples of a cone
 } pc;
 
 shared vec4 shared_position_area[RV_LIGHT_GROUP];
@@ -68,7 +69,8 @@ float block_visibility(VoxelGrid grid, vec3 x, uvec3 val) {
     // whichever is wider (spec 001 §4.6 step 2; the view's extent uses tan, not sin).
     float width = views[val.z].params.w / float(side);
     float s = clamp(max(width, 2.0 * sigma / max(d, 1e-30)), 0.01, 0.95);
-    return cone_visibility(grid, x, mean.position_texels.xyz, s);
+    vec3 normal = normalize(mean.normal_area.xyz + vec3(0.0, 0.0, 1e-30));
+    return cone_visibility(grid, x, mean.position_texels.xyz, normal, s, pc.cone_steps);
 }
 
 void main() {

@@ -27,7 +27,7 @@ Cascade rv_cascade(RvGrid grid, uint i) {
     float side = grid.first_side * float(1u << i);
     float cell = side / float(grid.resolution);
     float half_decision = 0.5 * side - 1.5 * cell;
-    return Cascade(floor(grid.eye / cell + 0.5) * cell - 0.5 * side, cell,
+    return Cascade((floor(grid.eye / cell + 0.5) + 0.5) * cell - 0.5 * side, cell,
                    grid.eye - half_decision, grid.eye + half_decision);
 }
 

@@ -12,7 +12,6 @@ struct VoxelGrid {
 };
 
 const float CONE_START = 2.0;
-const uint CONE_STEPS = 32u;
 
 // First voxel of `level`: sum over l < level of (n >> l)^3 = (n^3 - m^3) / 7 * 8, m = n >> level.
 uint voxel_offset(VoxelGrid g, uint level) {
@@ -48,20 +47,24 @@ float voxel_sample(VoxelGrid g, vec3 p, float lod) {
 }
 
 // Visibility from `from` to `to` (world) through a cone of aperture s (radius per unit length),
-// sampled from CONE_START voxels out to CONE_START voxels short of `to`.
-float cone_visibility(VoxelGrid g, vec3 from, vec3 to, float s) {
+// at most `steps` samples (voxels.rs CONE_STEPS says why 16), from CONE_START voxels out for
+// as long as a sample's footprint (its radius, at least a
+// voxel) stays a voxel clear of the plane through `to` with unit normal `normal`: the surface
+// the target lies on does not hide it, however grazing the cone's approach.
+float cone_visibility(VoxelGrid g, vec3 from, vec3 to, vec3 normal, float s, uint steps) {
     vec3 x = (from - g.lo) / g.voxel;
     vec3 y = (to - g.lo) / g.voxel;
     float distance = length(y - x);
     if (distance == 0.0) return 1.0;
     vec3 direction = (y - x) / distance;
-    float end = distance - CONE_START;
     float t = CONE_START;
     float occlusion = 0.0;
-    for (uint i = 0u; i < CONE_STEPS; ++i) {
-        if (t >= end) break;
+    for (uint i = 0u; i < steps; ++i) {
         float r = t * s;
-        float alpha = voxel_sample(g, x + direction * t, log2(max(r, 1e-30)));
+        vec3 p = x + direction * t;
+        float clearance = max(r, 1.0) + 1.0;
+        if (t + clearance >= distance || dot(p - y, normal) <= clearance) break;
+        float alpha = voxel_sample(g, p, log2(max(r, 1e-30)));
         occlusion += (1.0 - occlusion) * alpha;
         t += max(2.0 * r / (1.0 - s), 1.0);
     }

@@ -66,7 +66,7 @@ impl Cascades {
                 let cell = side / resolution as f32;
                 let half = 0.5 * side - DECISION_MARGIN * cell;
                 Cascade {
-                    lo: (eye / cell + 0.5).floor() * cell - Vec3::splat(0.5 * side),
+                    lo: ((eye / cell + 0.5).floor() + 0.5) * cell - Vec3::splat(0.5 * side),
                     cell,
                     decision_lo: eye - Vec3::splat(half),
                     decision_hi: eye + Vec3::splat(half),

@@ -82,9 +82,9 @@ const SETTINGS: &[Setting] = &[
     ),
     Setting::new(
         "corners",
-        Kind::Choice(&["front", "all"]),
-        "front",
-        "Which of a pixel's 8 corner caches it interpolates: those in front of its surface (corners behind it may sit inside the object or beyond a wall), or all (the public code)",
+        Kind::Choice(&["all", "front"]),
+        "all",
+        "Which of a pixel's 8 corner caches it interpolates: all (the public code), or those in front of its surface (corners behind it may sit inside the object or beyond a wall)",
     ),
     Setting::new(
         "indirect-shadows",

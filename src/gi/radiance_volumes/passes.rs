@@ -74,6 +74,7 @@ crate::push_constants! {
         shadow_level: u32,
         shadow_first: u32,
         shadows: u32,
+        cone_steps: u32,
     }
 }
 
@@ -437,6 +438,7 @@ impl Passes {
                     shadow_level: shadow.0,
                     shadow_first: shadow.1.first,
                     shadows: u32::from(settings.shadows),
+                    cone_steps: super::voxels::CONE_STEPS,
                 },
                 threads: [0; 3],
             },
