@@ -113,6 +113,21 @@ fn read_caches(gpu: &Gpu, rv: &RadianceVolumes, held: usize) -> Vec<(DVec3, Vec<
         .collect()
 }
 
+/// A GPU VAL against its f64 counterpart (sums over up to 16 texels in f32).
+fn assert_vals_match(got: &Val, expected: &Val, what: &str) {
+    let e = expected;
+    assert_close_vec(got.position, e.position, e.depth, 1e-5, what);
+    assert_close_vec(got.normal_sum, e.normal_sum, e.texels, 1e-3, what);
+    assert_close_vec(got.flux, e.flux, e.flux.max_element(), 1e-5, what);
+    for (g, w, name) in [
+        (got.area, e.area, "area"),
+        (got.depth, e.depth, "depth"),
+        (got.depth_squared, e.depth_squared, "depth²"),
+    ] {
+        assert!((g - w).abs() < 1e-4 * w, "{what} {name}: {g} vs {w}");
+    }
+}
+
 fn assert_close_vec(got: DVec3, expected: DVec3, scale: f64, tolerance: f64, what: &str) {
     assert!(
         (got - expected).abs().max_element() <= tolerance * scale,
@@ -203,30 +218,7 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
                     continue;
                 }
                 lit += 1;
-                let what = format!("VAL {vx},{vy}");
-                assert_close_vec(got.position, expected.position, expected.depth, 1e-5, &what);
-                assert_close_vec(
-                    got.normal_sum,
-                    expected.normal_sum,
-                    expected.texels,
-                    1e-3,
-                    &what,
-                );
-                assert_close_vec(
-                    got.flux,
-                    expected.flux,
-                    expected.flux.max_element(),
-                    1e-5,
-                    &what,
-                );
-                assert!(
-                    (got.area - expected.area).abs() < 1e-4 * expected.area,
-                    "{what} area"
-                );
-                assert!(
-                    (got.depth - expected.depth).abs() < 1e-5 * expected.depth,
-                    "{what}"
-                );
+                assert_vals_match(&got, &expected, &format!("VAL {vx},{vy}"));
             }
         }
     }
@@ -244,32 +236,7 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
             if expected.texels == 0.0 {
                 continue;
             }
-            let what = format!("level 1 VAL {x},{y}");
-            assert_close_vec(
-                got.flux,
-                expected.flux,
-                expected.flux.max_element(),
-                1e-5,
-                &what,
-            );
-            assert_close_vec(got.position, expected.position, expected.depth, 1e-5, &what);
-            assert_close_vec(
-                got.normal_sum,
-                expected.normal_sum,
-                expected.texels,
-                1e-5,
-                &what,
-            );
-            assert!(
-                (got.area - expected.area).abs() < 1e-5 * expected.area,
-                "{what} area"
-            );
-            assert!(
-                (got.depth - expected.depth).abs() < 1e-5 * expected.depth,
-                "{what}"
-            );
-            let d2 = expected.depth_squared;
-            assert!((got.depth_squared - d2).abs() < 1e-5 * d2, "{what}");
+            assert_vals_match(&got, &expected, &format!("level 1 VAL {x},{y}"));
         }
     }
 
