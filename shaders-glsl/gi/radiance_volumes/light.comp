@@ -69,8 +69,10 @@ float block_visibility(VoxelGrid grid, vec3 x, uvec3 val) {
     // whichever is wider (spec 001 §4.6 step 2; the view's extent uses tan, not sin).
     float width = views[val.z].params.w / float(side);
     float s = clamp(max(width, 2.0 * sigma / max(d, 1e-30)), 0.01, 0.95);
-    vec3 normal = normalize(mean.normal_area.xyz + vec3(0.0, 0.0, 1e-30));
-    return cone_visibility(grid, x, mean.position_texels.xyz, normal, s, pc.cone_steps);
+    float len = length(mean.normal_area.xyz);
+    vec3 normal = len > 0.0 ? mean.normal_area.xyz / len : vec3(0.0, 0.0, 1.0);
+    return cone_visibility(grid, x, mean.position_texels.xyz, normal, s,
+                           sqrt(mean.normal_area.w), pc.cone_steps);
 }
 
 void main() {

@@ -47,23 +47,28 @@ float voxel_sample(VoxelGrid g, vec3 p, float lod) {
 }
 
 // Visibility from `from` to `to` (world) through a cone of aperture s (radius per unit length),
-// at most `steps` samples (voxels.rs CONE_STEPS says why 16), from CONE_START voxels out for
-// as long as a sample's footprint (its radius, at least a
-// voxel) stays a voxel clear of the plane through `to` with unit normal `normal`: the surface
-// the target lies on does not hide it, however grazing the cone's approach.
-float cone_visibility(VoxelGrid g, vec3 from, vec3 to, vec3 normal, float s, uint steps) {
+// at most `steps` samples (voxels.rs CONE_STEPS says why 16), from CONE_START voxels out until
+// a sample's footprint (its radius, at least a voxel) would come within a voxel of `to`, or of
+// the target's own surface: the plane through `to` with unit normal `normal`, within `extent`
+// (world) of `to` along it. That surface does not hide its own light, however grazing the
+// cone's approach.
+float cone_visibility(VoxelGrid g, vec3 from, vec3 to, vec3 normal, float s, float extent,
+                      uint steps) {
     vec3 x = (from - g.lo) / g.voxel;
     vec3 y = (to - g.lo) / g.voxel;
     float distance = length(y - x);
     if (distance == 0.0) return 1.0;
     vec3 direction = (y - x) / distance;
+    float half_extent = 0.5 * extent / g.voxel;
     float t = CONE_START;
     float occlusion = 0.0;
     for (uint i = 0u; i < steps; ++i) {
         float r = t * s;
         vec3 p = x + direction * t;
         float clearance = max(r, 1.0) + 1.0;
-        if (t + clearance >= distance || dot(p - y, normal) <= clearance) break;
+        float height = dot(p - y, normal);
+        bool over_target = length((p - y) - height * normal) < clearance + half_extent;
+        if (t + clearance >= distance || (over_target && height <= clearance)) break;
         float alpha = voxel_sample(g, p, log2(max(r, 1e-30)));
         occlusion += (1.0 - occlusion) * alpha;
         t += max(2.0 * r / (1.0 - s), 1.0);

@@ -19,7 +19,8 @@ layout(push_constant) uniform Push {
 } pc;
 
 void main() {
-    uint id = gl_GlobalInvocationID.x;
+    // Triangles run along x and, past the dispatch limit of x, on along y.
+    uint id = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     if (id >= pc.triangle_count) return;
     Triangle tri = triangles[id];
     vec3 v[3];

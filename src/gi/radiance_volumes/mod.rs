@@ -117,8 +117,9 @@ pub const METHODS: &[MethodEntry] = &[MethodEntry {
     description: "seed 001: dynamic radiance volumes, cascaded grids of SH light caches allocated every frame where the view needs them and lit by the RSM's virtual area lights",
     default: false,
     settings: SETTINGS,
-    // Every frame is complete but for voxels fading after geometry moved; a second frame lets
-    // the profile report the first frame's counters, which the host reads a frame late.
+    // Every frame is complete but for voxels fading in over voxel-fade frames after geometry
+    // moved (a moved object is followed once they have); at least two frames, so the profile
+    // reports the first frame's counters, which the host reads a frame late.
     settle_frames: |settings| settings.u32("voxel-fade").unwrap_or(1).max(1) + 1,
     profile_axis: None,
     create: |setup, settings| Ok(Box::new(RadianceVolumes::new(setup, settings)?)),
@@ -241,11 +242,21 @@ impl GiMethod for RadianceVolumes {
         &mut self,
         _gpu: &Gpu,
         _scene: &Scene,
-        _regions: &[Aabb],
+        regions: &[Aabb],
     ) -> anyhow::Result<crate::gi::Follow> {
-        // The RSM and the G-buffer are drawn from the frame's vertex buffer every frame, and
-        // nothing else is kept.
-        Ok(crate::gi::Follow::Followed)
+        // The RSM and the G-buffer are drawn from the frame's vertex buffer every frame and the
+        // voxels are redrawn from it in the next frame; only the voxel cube, fitted to the
+        // scene when the method was built, cannot follow geometry that leaves it.
+        let g = &self.passes.voxels.grid;
+        let hi = g.min + glam::Vec3::splat(g.voxel * g.resolution as f32);
+        let inside = regions
+            .iter()
+            .all(|r| r.min.cmpge(g.min).all() && r.max.cmple(hi).all());
+        Ok(if inside || !self.settings.shadows {
+            crate::gi::Follow::Followed
+        } else {
+            crate::gi::Follow::Rebuild
+        })
     }
 
     fn describe(&self) -> Vec<String> {

@@ -88,7 +88,7 @@ crate::push_constants! {
 
 crate::push_constants! {
     struct AdaptPush {
-        count: u32,
+        side: u32,
         step: f32,
     }
 }
@@ -193,6 +193,9 @@ pub struct Passes {
     /// The first cascade's side in world units.
     pub first_side: f32,
 }
+
+/// Threads of a one-dimensional dispatch along x within the guaranteed 65 535 workgroups of 64.
+const MAX_THREADS_X: u32 = 65_535 * 64;
 
 /// vec4s per cache: its position and its coefficients.
 pub fn stride(bands: Bands) -> u32 {
@@ -488,14 +491,14 @@ impl Passes {
                     resolution: grid.resolution,
                     triangle_count: triangles,
                 },
-                threads: [triangles, 1, 1],
+                threads: [triangles.min(MAX_THREADS_X), triangles.div_ceil(MAX_THREADS_X), 1],
             })?;
             self.voxels.fade_left = if first { 1 } else { settings.voxel_fade };
         }
         if self.voxels.fade_left == 0 {
             return Ok(());
         }
-        let count = grid.side(0).pow(3) as u32;
+        let side = grid.side(0) as u32;
         rec.compute(&ComputePass {
             name: "rv adapt",
             pipeline: &self.pipelines.adapt,
@@ -504,14 +507,14 @@ impl Passes {
                 Binding::write(ids::RV_VOXELS, &self.voxels.volume),
             ],
             push: &AdaptPush {
-                count,
+                side,
                 step: if first {
                     1.0
                 } else {
                     1.0 / settings.voxel_fade as f32
                 },
             },
-            threads: [count, 1, 1],
+            threads: [side, side, side],
         })?;
         for level in 1..grid.levels() {
             let side = grid.side(level) as u32;

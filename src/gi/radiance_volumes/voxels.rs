@@ -220,16 +220,18 @@ fn sample_level(grid: &VoxelGrid, chain: &[f64], p: DVec3, level: u32) -> f64 {
 }
 
 /// Visibility between `from` and `to` (world space) through a cone of aperture `s` (radius per
-/// unit length), marched front to back from [`CONE_START`] voxels for as long as a sample's
-/// footprint (its radius, at least a voxel) stays a voxel clear of the plane through `to` with
-/// unit normal `normal`, each sample at the level of its radius (spec 001 §4.6; the public code
-/// stops 2 voxels short of `to`, which lets cones that approach their target's surface at a
-/// grazing angle, or narrow ones, be hidden by that surface).
+/// unit length), marched front to back from [`CONE_START`] voxels, each sample at the level of
+/// its radius, until a sample's footprint (its radius, at least a voxel) would come within a
+/// voxel of `to` or of the target's own surface: the plane through `to` with unit normal
+/// `normal`, within `extent` (world) of `to` along it (spec 001 §4.6; the public code stops 2
+/// voxels short of `to`, which lets cones that approach their target's surface at a grazing
+/// angle, or narrow ones, be hidden by that surface).
 pub fn cone_visibility(
     grid: &VoxelGrid,
     chain: &[f64],
     (from, to, normal): (DVec3, DVec3, DVec3),
     s: f64,
+    extent: f64,
 ) -> f64 {
     let (x, y) = (grid.to_voxels(from), grid.to_voxels(to));
     let distance = (y - x).length();
@@ -237,13 +239,16 @@ pub fn cone_visibility(
         return 1.0;
     }
     let direction = (y - x) / distance;
+    let half_extent = 0.5 * extent / f64::from(grid.voxel);
     let mut t = CONE_START;
     let mut occlusion = 0.0;
     for _ in 0..CONE_STEPS {
         let r = t * s;
         let p = x + direction * t;
         let clearance = r.max(1.0) + 1.0;
-        if t + clearance >= distance || (p - y).dot(normal) <= clearance {
+        let height = (p - y).dot(normal);
+        let over_target = ((p - y) - normal * height).length() < clearance + half_extent;
+        if t + clearance >= distance || (over_target && height <= clearance) {
             break;
         }
         let alpha = sample(grid, chain, p, r.max(1e-30).log2());
@@ -299,17 +304,23 @@ mod tests {
         let from = DVec3::new(2.5, 8.0, 8.0);
         let to = DVec3::new(13.5, 8.0, 8.0);
         let empty = volume(&g, |_| false);
-        assert_eq!(cone_visibility(&g, &empty, (from, to, DVec3::NEG_X), 0.05), 1.0);
+        assert_eq!(cone_visibility(&g, &empty, (from, to, DVec3::NEG_X), 0.05, 1.0), 1.0);
         // Two voxels thick, the whole cross-section.
         let wall = volume(&g, |v| v[0] == 7 || v[0] == 8);
-        assert_eq!(cone_visibility(&g, &wall, (from, to, DVec3::NEG_X), 0.05), 0.0);
+        assert_eq!(cone_visibility(&g, &wall, (from, to, DVec3::NEG_X), 0.05, 1.0), 0.0);
         // A wall beside the path leaves a narrow cone untouched.
         let beside = volume(&g, |v| (v[0] == 7 || v[0] == 8) && v[1] >= 12);
-        assert_eq!(cone_visibility(&g, &beside, (from, to, DVec3::NEG_X), 0.05), 1.0);
+        assert_eq!(cone_visibility(&g, &beside, (from, to, DVec3::NEG_X), 0.05, 1.0), 1.0);
         // Half the cross-section blocked, seen by a wide cone: partly visible.
         let half = volume(&g, |v| (v[0] == 7 || v[0] == 8) && v[1] < 8);
-        let v = cone_visibility(&g, &half, (from, to, DVec3::NEG_X), 0.4);
+        let v = cone_visibility(&g, &half, (from, to, DVec3::NEG_X), 0.4, 1.0);
         assert!(v > 0.05 && v < 0.95, "{v}");
+        // A target on the floor, the apex just above that floor's plane and far from the
+        // target along it: the march does not stop at the plane, and the wall hides it.
+        let floor_to = DVec3::new(13.5, 1.0, 8.0);
+        let low = DVec3::new(2.5, 1.5, 8.0);
+        assert_eq!(cone_visibility(&g, &wall, (low, floor_to, DVec3::Y), 0.05, 1.0), 0.0);
+        assert_eq!(cone_visibility(&g, &empty, (low, floor_to, DVec3::Y), 0.05, 1.0), 1.0);
     }
 
     #[test]
