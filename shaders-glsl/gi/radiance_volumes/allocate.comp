@@ -37,6 +37,7 @@ void allocate_cell(uint cell) {
     uint i = cell / per_cascade;
     uint r = cell % per_cascade;
     uvec3 g = uvec3(r % n, (r / n) % n, r / (n * n));
+    Cascade c = rv_cascade(grid(), i);
     for (uint k = 0u; k < 8u; ++k) {
         uvec3 corner = g + uvec3(k & 1u, (k >> 1) & 1u, k >> 2);
         uint slot = rv_corner_index(i, corner, n);
@@ -47,7 +48,7 @@ void allocate_cell(uint cell) {
             atomicExchange(address[slot], RV_REFUSED);
             continue;
         }
-        caches[index * pc.stride] = vec4(rv_corner_position(grid(), i, corner), float(i));
+        caches[index * pc.stride] = vec4(c.lo + vec3(corner) * c.cell, float(i));
         atomicExchange(address[slot], index + 1u);
     }
 }

@@ -48,7 +48,7 @@ vec3 interpolate(uint cascade, vec3 p, vec3 n, inout uint missing) {
     uvec3 g;
     vec3 f;
     rv_cell(grid(), cascade, p, g, f);
-    float cell = rv_cascade(grid(), cascade).cell;
+    Cascade c = rv_cascade(grid(), cascade);
     vec3 sum = vec3(0.0);
     float weights = 0.0;
     for (uint k = 0u; k < 8u; ++k) {
@@ -59,8 +59,8 @@ vec3 interpolate(uint cascade, vec3 p, vec3 n, inout uint missing) {
             // A corner behind the pixel's surface may lie inside the object or beyond the wall
             // it belongs to: it is left out (its light would leak or be shadowed by that
             // surface).
-            vec3 at = rv_corner_position(grid(), cascade, g + corner);
-            if (dot(at - p, n) < -1e-3 * cell) continue;
+            vec3 at = c.lo + vec3(g + corner) * c.cell;
+            if (dot(at - p, n) < -1e-3 * c.cell) continue;
         }
         uint value = address[rv_corner_index(cascade, g + corner, pc.resolution)];
         if (value == RV_EMPTY || value == RV_LOCKED) {

@@ -66,9 +66,4 @@ uint rv_corner_index(uint i, uvec3 corner, uint resolution) {
     return i * side * side * side + corner.x + side * (corner.y + side * corner.z);
 }
 
-vec3 rv_corner_position(RvGrid grid, uint i, uvec3 corner) {
-    Cascade c = rv_cascade(grid, i);
-    return c.lo + vec3(corner) * c.cell;
-}
-
 #endif
