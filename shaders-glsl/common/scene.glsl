@@ -23,6 +23,7 @@ vec3 shading_normal(vec3 interpolated, vec3 face) {
 struct Material {
     vec4 albedo;    // rgb diffuse albedo (factor), w = 1 + albedo texture index, 0 for none
     vec4 emission;  // rgb emitted radiance, w = 1 when emitted from both faces (else the front)
+    vec4 specular;  // rgb reflectance of the glossy lobe (common/brdf.glsl), w = roughness
 };
 
 #endif

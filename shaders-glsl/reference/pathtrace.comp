@@ -1,7 +1,9 @@
 #version 460
-// The reference path tracer: Lambertian surfaces; punctual lights by next-event estimation;
+// The reference path tracer: Lambertian surfaces with an optional GGX lobe (common/brdf.glsl);
+// punctual lights by next-event estimation;
 // emissive triangles both by next-event estimation (a triangle chosen by power, a point on it
-// uniformly; src/reference/emitters.rs) and by cosine-weighted bounces that hit them, the two
+// uniformly; src/reference/emitters.rs) and by bounces that hit them (cosine-weighted, or by the
+// GGX normals with the glossy lobe's share of the reflectance), the two
 // combined by multiple importance sampling with the power heuristic. Emission leaves the front
 // face (by winding) only unless the material is two-sided. One invocation per pixel adds
 // `samples` samples to the direct and indirect sums. src/reference/cpu.rs is the same
@@ -15,6 +17,7 @@
 #include "common/lights.glsl"
 #include "common/rng.glsl"
 #include "common/sampling.glsl"
+#include "common/brdf.glsl"
 #include "common/bvh_node.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
@@ -86,7 +89,7 @@ void main() {
         vec3 origin = pc.camera_position_epsilon.xyz;
         vec3 dir = camera_ray(vec2(pixel) + jitter);
         vec3 throughput = vec3(1.0);
-        // Density (solid angle) of the cosine bounce that produced `dir`; 0 for camera rays.
+        // Density (solid angle) of the bounce that produced `dir`; 0 for camera rays.
         float bounce_pdf = 0.0;
         for (uint depth = 0u; depth < REFERENCE_MAX_DEPTH; ++depth) {
             float t;
@@ -111,6 +114,10 @@ void main() {
                           + vertex_texcoord(vertices[corners.y]) * uv.x
                           + vertex_texcoord(vertices[corners.z]) * uv.y;
             vec3 albedo = material_albedo(m, texcoord);
+            vec3 specular = m.specular.rgb;
+            float roughness = m.specular.w;
+            float glossy = glossy_share(albedo, specular);
+            vec3 view = -dir;
 
             bool emits = cos_emit > 0.0 || m.emission.w > 0.5;
             if (emits && any(greaterThan(m.emission.rgb, vec3(0.0)))) {
@@ -140,6 +147,7 @@ void main() {
                 vec2 uvs;
                 if (trace_ray(shade_origin, to_light_offset / reach, 0.0, reach - eps, true, ts, uvs) >= 0) continue;
                 vec3 reflected = throughput * albedo * INV_PI * e * cos_theta;
+                if (glossy > 0.0) reflected += throughput * e * glossy_cos(specular, roughness, ns, to_light, view);
                 if (depth == 0u) direct += reflected; else indirect += reflected;
             }
 
@@ -173,10 +181,17 @@ void main() {
                     vec2 uvs;
                     if (trace_ray(shade_origin, wi, 0.0, dist - eps, true, ts, uvs) < 0) {
                         float light_pdf = emitter_area_pdf(em) * dist2 / cos_e;
+                        float bsdf_pdf = glossy > 0.0
+                            ? (1.0 - glossy) * cos_s * INV_PI + glossy * glossy_pdf(roughness, ns, wi, view)
+                            : cos_s * INV_PI;
                         float weight = pc.strategy == REFERENCE_STRATEGY_MIS
-                                     ? power_heuristic(light_pdf, cos_s * INV_PI) : 1.0;
+                                     ? power_heuristic(light_pdf, bsdf_pdf) : 1.0;
                         vec3 reflected = throughput * albedo * INV_PI * em.emission.rgb
                                        * (cos_s * weight / light_pdf);
+                        if (glossy > 0.0) {
+                            reflected += throughput * glossy_cos(specular, roughness, ns, wi, view)
+                                       * em.emission.rgb * (weight / light_pdf);
+                        }
                         if (depth == 0u) direct += reflected; else indirect += reflected;
                     }
                 }
@@ -185,12 +200,27 @@ void main() {
             // The bounce out of the last allowed reflection only looks for emission.
             if (!unlimited && depth == pc.max_bounces && pc.has_emission == 0u) break;
             uint dim = 2u + 3u * depth;
-            vec3 next = sample_cosine_hemisphere(ns,
-                random_float(pc.seed, pixel_index, sample_index, dim),
-                random_float(pc.seed, pixel_index, sample_index, dim + 1u));
+            float u1 = random_float(pc.seed, pixel_index, sample_index, dim);
+            float u2 = random_float(pc.seed, pixel_index, sample_index, dim + 1u);
+            vec3 next;
+            if (u1 < glossy) {
+                vec3 t, b;
+                orthonormal_basis(ns, t, b);
+                next = sample_glossy(roughness, t, b, ns, view, u1 / glossy, u2);
+            } else {
+                next = sample_cosine_hemisphere(ns, glossy > 0.0 ? (u1 - glossy) / (1.0 - glossy) : u1, u2);
+            }
             if (dot(next, ng) <= 0.0) break;
-            bounce_pdf = dot(ns, next) * INV_PI;
-            throughput *= albedo;
+            if (glossy > 0.0) {
+                // One sample of the mixture: the whole BRDF over the mixture's density.
+                float cos_n = dot(ns, next);
+                if (cos_n <= 0.0) break;
+                bounce_pdf = (1.0 - glossy) * cos_n * INV_PI + glossy * glossy_pdf(roughness, ns, next, view);
+                throughput *= (albedo * INV_PI * cos_n + glossy_cos(specular, roughness, ns, next, view)) / bounce_pdf;
+            } else {
+                bounce_pdf = dot(ns, next) * INV_PI;
+                throughput *= albedo;
+            }
             if (unlimited && depth >= pc.rr_start) {
                 float survive = min(max(max(throughput.r, throughput.g), throughput.b), 0.95);
                 if (random_float(pc.seed, pixel_index, sample_index, dim + 2u) >= survive) break;

@@ -73,6 +73,10 @@ pub fn scene_hash(scene: &Scene) -> String {
         floats.extend(m.albedo.to_array());
         floats.extend(m.emission.to_array());
         floats.push(f32::from(u8::from(m.two_sided)));
+        // Lambertian materials hash as before the glossy lobe existed (their images are unchanged).
+        if m.specular != glam::Vec3::ZERO {
+            floats.extend(m.specular.extend(m.roughness).to_array());
+        }
     }
     for l in &scene.lights {
         floats.extend(l.position.to_array());

@@ -1,5 +1,5 @@
 //! The path tracer's estimator on the CPU, step for step as in pathtrace.comp (punctual lights
-//! and emitters by next-event estimation, emitter hits by cosine bounces, combined by multiple
+//! and emitters by next-event estimation, emitter hits by bounces, combined by multiple
 //! importance sampling), with the same random numbers; tests compare it with the GPU on small
 //! images.
 
@@ -11,6 +11,7 @@ use super::{
     inverse_view_projection, ray_epsilon,
 };
 use crate::imageio::HdrImage;
+use crate::scene::brdf;
 use crate::scene::bvh::Bvh;
 use crate::scene::emitters::Emitters;
 use crate::scene::{Light, Scene};
@@ -25,13 +26,19 @@ fn light_incidence(light: &Light, p: Vec3) -> (Vec3, Vec3, f32) {
     (e, to_light, distance)
 }
 
-/// As `orthonormal_basis` + `sample_cosine_hemisphere` in sampling.glsl.
-pub(crate) fn sample_cosine_hemisphere(n: Vec3, u1: f32, u2: f32) -> Vec3 {
+/// As `orthonormal_basis` in sampling.glsl: (tangent, bitangent, n).
+fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3, Vec3) {
     let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (s + n.z);
     let c = n.x * n.y * a;
     let t = Vec3::new(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
     let b = Vec3::new(c, s + n.y * n.y * a, -n.y);
+    (t, b, n)
+}
+
+/// As `sample_cosine_hemisphere` in sampling.glsl.
+pub(crate) fn sample_cosine_hemisphere(n: Vec3, u1: f32, u2: f32) -> Vec3 {
+    let (t, b, _) = orthonormal_basis(n);
     let r = u1.sqrt();
     let phi = 2.0 * std::f32::consts::PI * u2;
     (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()).normalize()
@@ -105,7 +112,7 @@ fn pixel(
         let mut dir = (far.truncate() / far.w - near.truncate() / near.w).normalize();
         let mut origin = scene.camera.position;
         let mut throughput = Vec3::ONE;
-        // Density (solid angle) of the cosine bounce that produced `dir`; 0 for camera rays.
+        // Density (solid angle) of the bounce that produced `dir`; 0 for camera rays.
         let mut bounce_pdf = 0.0f32;
         let strategy = settings.strategy;
         let sampled = !emitters.triangles.is_empty();
@@ -127,6 +134,9 @@ fn pixel(
             }
             let m = &scene.materials[mesh.materials[t] as usize];
             let albedo = scene.albedo(t, hit.uv);
+            let (specular, roughness) = (m.specular, m.roughness);
+            let glossy = brdf::glossy_share(albedo, specular);
+            let view = -dir;
             if (cos_emit > 0.0 || m.two_sided) && m.emission.max_element() > 0.0 {
                 let weight = if depth > 0 && sampled {
                     let light_pdf =
@@ -167,7 +177,12 @@ fn pixel(
                 {
                     continue;
                 }
-                let reflected = throughput * albedo * std::f32::consts::FRAC_1_PI * e * cos_theta;
+                let mut reflected =
+                    throughput * albedo * std::f32::consts::FRAC_1_PI * e * cos_theta;
+                if glossy > 0.0 {
+                    reflected +=
+                        throughput * e * brdf::glossy_cos(specular, roughness, ns, to_light, view);
+                }
                 if depth == 0 {
                     direct += reflected;
                 } else {
@@ -200,16 +215,28 @@ fn pixel(
                         .is_none()
                 {
                     let light_pdf = emitters.area_pdf(em) * dist2 / cos_e;
+                    let bsdf_pdf = if glossy > 0.0 {
+                        (1.0 - glossy) * cos_s * std::f32::consts::FRAC_1_PI
+                            + glossy * brdf::glossy_pdf(roughness, ns, wi, view)
+                    } else {
+                        cos_s * std::f32::consts::FRAC_1_PI
+                    };
                     let weight = if strategy == Strategy::Mis {
-                        power_heuristic(light_pdf, cos_s * std::f32::consts::FRAC_1_PI)
+                        power_heuristic(light_pdf, bsdf_pdf)
                     } else {
                         1.0
                     };
-                    let reflected = throughput
+                    let mut reflected = throughput
                         * albedo
                         * std::f32::consts::FRAC_1_PI
                         * em.emission
                         * (cos_s * weight / light_pdf);
+                    if glossy > 0.0 {
+                        reflected += throughput
+                            * brdf::glossy_cos(specular, roughness, ns, wi, view)
+                            * em.emission
+                            * (weight / light_pdf);
+                    }
                     if depth == 0 {
                         direct += reflected;
                     } else {
@@ -222,12 +249,35 @@ fn pixel(
                 break;
             }
             let dim = 2 + 3 * depth;
-            let next = sample_cosine_hemisphere(ns, rand(dim), rand(dim + 1));
+            let (u1, u2) = (rand(dim), rand(dim + 1));
+            let next = if u1 < glossy {
+                brdf::sample_glossy(roughness, orthonormal_basis(ns), view, u1 / glossy, u2)
+            } else {
+                let u1 = if glossy > 0.0 {
+                    (u1 - glossy) / (1.0 - glossy)
+                } else {
+                    u1
+                };
+                sample_cosine_hemisphere(ns, u1, u2)
+            };
             if next.dot(ng) <= 0.0 {
                 break;
             }
-            bounce_pdf = ns.dot(next) * std::f32::consts::FRAC_1_PI;
-            throughput *= albedo;
+            if glossy > 0.0 {
+                // One sample of the mixture: the whole BRDF over the mixture's density.
+                let cos_n = ns.dot(next);
+                if cos_n <= 0.0 {
+                    break;
+                }
+                bounce_pdf = (1.0 - glossy) * cos_n * std::f32::consts::FRAC_1_PI
+                    + glossy * brdf::glossy_pdf(roughness, ns, next, view);
+                throughput *= (albedo * std::f32::consts::FRAC_1_PI * cos_n
+                    + brdf::glossy_cos(specular, roughness, ns, next, view))
+                    / bounce_pdf;
+            } else {
+                bounce_pdf = ns.dot(next) * std::f32::consts::FRAC_1_PI;
+                throughput *= albedo;
+            }
             if settings.bounces == Bounces::Unlimited && depth >= RUSSIAN_ROULETTE_START {
                 let survive = throughput.max_element().min(0.95);
                 if rand(dim + 2) >= survive {

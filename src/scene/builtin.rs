@@ -1,5 +1,7 @@
 //! The built-in scenes, embedded in the binary so `--scene cornell` works from any directory.
 
+use glam::Vec3;
+
 use super::Scene;
 use super::file::load_embedded;
 use crate::error::InputError;
@@ -36,12 +38,38 @@ const BUILTINS: &[Builtin] = &[
     },
 ];
 
+/// A built-in scene with some of its materials made glossy (the scenes that score indirect
+/// specular light).
+struct GlossyVariant {
+    name: &'static str,
+    about: &'static str,
+    base: &'static str,
+    /// Material name, glossy reflectance, roughness.
+    gloss: &'static [(&'static str, f32, f32)],
+}
+
+const GLOSSY_VARIANTS: &[GlossyVariant] = &[
+    GlossyVariant {
+        name: "cornell-glossy",
+        about: "cornell with glossy white surfaces (reflectance 0.2, roughness 0.35)",
+        base: "cornell",
+        gloss: &[("white", 0.2, 0.35)],
+    },
+    GlossyVariant {
+        name: "atrium-glossy",
+        about: "atrium with glossy paving and stone (reflectance 0.3 and 0.15, roughness 0.3 and 0.5)",
+        base: "atrium",
+        gloss: &[("paving", 0.3, 0.3), ("stone", 0.15, 0.5)],
+    },
+];
+
 /// Every built-in scene, stored or generated, with a line about it.
 pub fn catalogue() -> impl Iterator<Item = (&'static str, &'static str)> {
     BUILTINS
         .iter()
         .map(|b| (b.name, b.about))
         .chain(super::generate::SCENES.iter().copied())
+        .chain(GLOSSY_VARIANTS.iter().map(|v| (v.name, v.about)))
 }
 
 /// The built-in scenes' names, comma-separated.
@@ -54,6 +82,20 @@ pub fn names() -> String {
 
 /// The built-in (stored or generated) scene called `name`, if there is one.
 pub fn load(name: &str) -> Result<Option<Scene>, InputError> {
+    if let Some(variant) = GLOSSY_VARIANTS.iter().find(|v| v.name == name) {
+        let Some(mut scene) = load(variant.base)? else {
+            return Ok(None);
+        };
+        scene.name = variant.name.to_string();
+        for material in &mut scene.materials {
+            if let Some(&(_, specular, roughness)) =
+                variant.gloss.iter().find(|(n, _, _)| *n == material.name)
+            {
+                *material = material.clone().with_gloss(Vec3::splat(specular), roughness);
+            }
+        }
+        return Ok(Some(scene));
+    }
     let Some(builtin) = BUILTINS.iter().find(|b| b.name == name) else {
         return super::generate::load(name);
     };
@@ -71,6 +113,21 @@ mod tests {
             let scene = load(name).unwrap().unwrap();
             assert!(scene.mesh.triangle_count() > 0);
             assert!(!scene.lights.is_empty());
+        }
+    }
+
+    #[test]
+    fn glossy_variants_gloss_only_their_named_materials() {
+        for variant in GLOSSY_VARIANTS {
+            let base = load(variant.base).unwrap().unwrap();
+            let glossy = load(variant.name).unwrap().unwrap();
+            assert_eq!(base.materials.len(), glossy.materials.len());
+            for (b, g) in base.materials.iter().zip(&glossy.materials) {
+                let named = variant.gloss.iter().any(|(n, _, _)| *n == b.name);
+                assert_eq!(g.specular != Vec3::ZERO, named, "{}", b.name);
+                assert_eq!(b.albedo, g.albedo);
+            }
+            assert!(variant.gloss.iter().all(|(n, _, _)| base.materials.iter().any(|m| m.name == *n)));
         }
     }
 

@@ -149,11 +149,9 @@ mod tests {
                 k as u32,
             );
             materials.push(Material {
-                name: format!("m{k}"),
-                albedo: Vec3::splat(0.5),
                 emission: Vec3::splat(le),
                 two_sided,
-                albedo_texture: None,
+                ..Material::diffuse(&format!("m{k}"), Vec3::splat(0.5))
             });
         }
         let camera = Camera {

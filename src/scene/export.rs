@@ -1,6 +1,6 @@
 //! A scene written back out as the files vkgi reads: an OBJ (positions, normals, texture
 //! coordinates where a material is textured; each dynamic object as an object `o` of its own,
-//! where its path starts from), its MTL (`Kd`, `Ke`, `map_Kd`, and `two_sided 1`, vkgi's one
+//! where its path starts from), its MTL (`Kd`, `Ke`, `Ks`, `Ns`, `map_Kd`, and `two_sided 1`, vkgi's one
 //! extension of MTL), the albedo textures as PNG, and a scene file (TOML) with the camera, the
 //! point and spot lights and the dynamic objects' paths. Numbers are written in Rust's shortest round-trip form,
 //! so reading the files back gives the same floats (texture `v` is flipped, as OBJ counts it
@@ -188,6 +188,11 @@ fn mtl_text(
             && let Some((file, _)) = textures.iter().find(|(_, t)| Arc::ptr_eq(t, texture))
         {
             let _ = writeln!(mtl, "map_Kd {file}");
+        }
+        if material.specular != Vec3::ZERO {
+            let k = material.specular;
+            let ns = super::brdf::phong_from_roughness(material.roughness);
+            let _ = writeln!(mtl, "Ks {} {} {}\nNs {ns}", k.x, k.y, k.z);
         }
         if material.two_sided {
             mtl.push_str("two_sided 1\n");

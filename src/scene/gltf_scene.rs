@@ -328,9 +328,9 @@ impl Reader<'_> {
             .map(str::to_string)
             .or_else(|| material.index().map(|i| format!("material {i}")))
             .unwrap_or_else(|| "default".into());
-        if pbr.metallic_factor() > 0.0 || pbr.metallic_roughness_texture().is_some() {
+        if pbr.metallic_roughness_texture().is_some() {
             self.warn(
-                "metallic-roughness is ignored: vkgi's surfaces are Lambertian (base colour only)"
+                "metallic-roughness textures are ignored (the metallic and roughness factors are used)"
                     .into(),
             );
         }
@@ -358,13 +358,20 @@ impl Reader<'_> {
             }
             None => None,
         };
-        self.materials.push(Material {
-            name,
-            albedo: Vec3::new(r, g, b),
-            emission,
-            two_sided: material.double_sided(),
-            albedo_texture,
-        });
+        // The metallic-roughness model: metals reflect their base colour glossily, dielectrics
+        // diffusely with a 4% glossy lobe (no Fresnel factor; see src/scene/brdf.rs).
+        let base = Vec3::new(r, g, b);
+        let metallic = pbr.metallic_factor().clamp(0.0, 1.0);
+        let specular = Vec3::splat(0.04).lerp(base, metallic);
+        self.materials.push(
+            Material {
+                emission,
+                two_sided: material.double_sided(),
+                albedo_texture,
+                ..Material::diffuse(&name, base * (1.0 - metallic))
+            }
+            .with_gloss(specular.min(Vec3::ONE - base * (1.0 - metallic)), pbr.roughness_factor()),
+        );
         let index = self.materials.len() as u32 - 1;
         if let Some(slot) = material.index().and_then(|i| self.material_of.get_mut(i)) {
             *slot = Some(index);

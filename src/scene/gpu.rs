@@ -35,6 +35,8 @@ pub struct GpuMaterial {
     pub albedo: [f32; 4],
     /// rgb emitted radiance, w = 1 when emitted from both faces.
     pub emission: [f32; 4],
+    /// rgb reflectance of the glossy lobe, w = roughness (src/scene/brdf.rs).
+    pub specular: [f32; 4],
 }
 
 /// The scene's albedo textures as one word array (shaders-glsl/common/texture.glsl reads it):
@@ -237,6 +239,7 @@ impl SceneBuffers {
                     .emission
                     .extend(f32::from(u8::from(m.two_sided)))
                     .to_array(),
+                specular: m.specular.extend(m.roughness).to_array(),
             })
             .collect();
         let (lights, views) = shadow_views(scene, lights, shadow_map_size);

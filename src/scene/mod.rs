@@ -2,6 +2,7 @@
 //! and a camera, from a built-in name, a scene file (TOML) or a bare OBJ.
 
 pub mod builtin;
+pub mod brdf;
 pub mod bvh;
 pub mod camera;
 pub mod dynamic;
@@ -41,6 +42,10 @@ pub struct Material {
     /// Multiplies `albedo`, sampled at the surface's texture coordinates (shared between
     /// materials that use the same image).
     pub albedo_texture: Option<Arc<Texture>>,
+    /// Reflectance of the glossy lobe (zero: Lambertian only); see [`brdf`].
+    pub specular: Vec3,
+    /// Perceptual roughness of the glossy lobe, in [`brdf::MIN_ROUGHNESS`, 1].
+    pub roughness: f32,
 }
 
 impl Material {
@@ -52,6 +57,18 @@ impl Material {
             emission: Vec3::ZERO,
             two_sided: false,
             albedo_texture: None,
+            specular: Vec3::ZERO,
+            roughness: 1.0,
+        }
+    }
+
+    /// This material with a glossy lobe of reflectance `specular` and `roughness` (clamped to
+    /// the range [`brdf`] renders).
+    pub fn with_gloss(self, specular: Vec3, roughness: f32) -> Material {
+        Material {
+            specular,
+            roughness: roughness.clamp(brdf::MIN_ROUGHNESS, 1.0),
+            ..self
         }
     }
 

@@ -14,6 +14,7 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 
+use super::brdf::roughness_from_phong;
 use super::{Material, Mesh, Texture};
 use crate::error::{InputError, catch_library_panic};
 
@@ -489,12 +490,39 @@ fn convert_material(file: &str, m: &tobj::Material) -> Result<Material, InputErr
         }
     };
     Ok(Material {
-        name: m.name.clone(),
-        albedo,
         emission,
         two_sided,
-        albedo_texture: None,
-    })
+        ..Material::diffuse(&m.name, albedo)
+    }
+    .with_gloss(glossy_reflectance(file, m, albedo)?, roughness_from_phong(m.shininess.unwrap_or(0.0))))
+}
+
+/// A material's `Ks`, lowered where `Kd + Ks` would reflect more than all light (common in
+/// exported MTL files), with a warning.
+fn glossy_reflectance(file: &str, m: &tobj::Material, albedo: Vec3) -> Result<Vec3, InputError> {
+    let specular = Vec3::from(m.specular.unwrap_or([0.0; 3]));
+    if !(specular.is_finite() && specular.min_element() >= 0.0 && specular.max_element() <= 1.0) {
+        return Err(InputError::new(format!(
+            "{file}: material '{}' has Ks {specular}; each component must be within [0, 1]",
+            m.name
+        )));
+    }
+    if let Some(ns) = m.shininess
+        && !(ns.is_finite() && ns >= 0.0)
+    {
+        return Err(InputError::new(format!(
+            "{file}: material '{}' has Ns {ns}; it must be finite and >= 0",
+            m.name
+        )));
+    }
+    let bounded = specular.min(Vec3::ONE - albedo);
+    if bounded != specular {
+        log::warn!(
+            "{file}: material '{}': Kd + Ks exceeds 1, Ks lowered to {bounded}",
+            m.name
+        );
+    }
+    Ok(bounded)
 }
 
 #[cfg(test)]

@@ -127,12 +127,10 @@ pub fn icosphere(subdivisions: u32, r: f32) -> Mesh {
 /// The white furnace: a camera at the centre of a closed emissive sphere of albedo `albedo`.
 pub fn furnace(albedo: f32, emission: f32) -> Scene {
     let material = Material {
-        name: "furnace".into(),
-        albedo: Vec3::splat(albedo),
         emission: Vec3::splat(emission),
         // The camera sees the enclosure from inside, against its outward winding.
         two_sided: true,
-        albedo_texture: None,
+        ..Material::diffuse("furnace", Vec3::splat(albedo))
     };
     let camera = Camera {
         position: Vec3::ZERO,
@@ -158,13 +156,7 @@ pub fn plane_under_point_light(albedo: f32, flux: f32) -> Scene {
         let corner = |i: usize| Vec3::new(corners[i].0, 0.0, corners[i].1);
         mesh.push_triangle(tri.map(corner), [Vec3::Y; 3], 0);
     }
-    let material = Material {
-        name: "plane".into(),
-        albedo: Vec3::splat(albedo),
-        emission: Vec3::ZERO,
-        two_sided: false,
-        albedo_texture: None,
-    };
+    let material = Material::diffuse("plane", Vec3::splat(albedo));
     let light = Light {
         position: Vec3::new(0.3, 1.0, -0.2),
         kind: LightKind::Point,
@@ -277,19 +269,10 @@ pub fn plane_under_square_light(albedo: f32, side: f32, height: f32, le: f32) ->
     let light = [(-r, -r), (r, -r), (r, r), (-r, r)].map(|(x, z)| Vec3::new(x, height, z));
     quad(&mut mesh, light, 1);
     let materials = vec![
+        Material::diffuse("floor", Vec3::splat(albedo)),
         Material {
-            name: "floor".into(),
-            albedo: Vec3::splat(albedo),
-            emission: Vec3::ZERO,
-            two_sided: false,
-            albedo_texture: None,
-        },
-        Material {
-            name: "light".into(),
-            albedo: Vec3::ZERO,
             emission: Vec3::splat(le),
-            two_sided: false,
-            albedo_texture: None,
+            ..Material::diffuse("light", Vec3::ZERO)
         },
     ];
     let camera = Camera {
