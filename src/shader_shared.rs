@@ -36,6 +36,7 @@ shared_constants! {
     LIGHTING_LIGHTS: u32 = 5;
     LIGHTING_SHADOW_VIEWS: u32 = 6;
     LIGHTING_HDR_OUT: u32 = 7;
+    LIGHTING_GBUFFER_SPECULAR: u32 = 8;
 
     // ---- window overlay ----
     OVERLAY_TARGET: u32 = 0;

@@ -331,10 +331,18 @@ fn error_falls_as_one_over_the_square_root_of_the_sample_count() {
 #[test]
 fn direct_only_reference_agrees_with_the_raster_frame() {
     let gpu = common::gpu();
-    let scene = Scene::load("cornell").unwrap();
+    for name in ["cornell", "cornell-glossy"] {
+        direct_light_agrees(&gpu, &Scene::load(name).unwrap());
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// The raster frame's direct light against the path tracer's (Lambertian and glossy lobes),
+/// away from shadow and material edges.
+fn direct_light_agrees(gpu: &vkgi::gpu::Gpu, scene: &Scene) {
     let (w, h) = (120, 90);
-    let (_, raster) = common::render(&gpu, &scene, w, h);
-    let reference = trace(&gpu, &scene, &settings(w, h, 64, Bounces::Limited(0), 5)).combined();
+    let (_, raster) = common::render(gpu, scene, w, h);
+    let reference = trace(gpu, scene, &settings(w, h, 64, Bounces::Limited(0), 5)).combined();
     let light = scene.lights[0];
     // Direct radiance seen through a point of the image, on the CPU (None: background).
     let direct_at = |px: Vec2| -> Option<(usize, f32)> {
@@ -348,13 +356,16 @@ fn direct_only_reference_agrees_with_the_raster_frame() {
             n = -n;
         }
         let lit = scene.mesh.visible(p + n * 1e-4, light.position, 1e-4);
-        let albedo = scene.materials[scene.mesh.materials[hit.triangle] as usize].albedo;
-        let e = if lit {
-            light.irradiance_at(p, n)
-        } else {
-            Vec3::ZERO
-        };
-        Some((hit.triangle, (albedo * e).length() / std::f32::consts::PI))
+        let m = &scene.materials[scene.mesh.materials[hit.triangle] as usize];
+        if !lit {
+            return Some((hit.triangle, 0.0));
+        }
+        let e = light.irradiance_at(p, n);
+        let to_light = (light.position - p).normalize();
+        let glossy = vkgi::scene::brdf::glossy_cos(m.specular, m.roughness, n, to_light, -dir)
+            * e
+            / n.dot(to_light).max(1e-6);
+        Some((hit.triangle, (m.albedo * e / std::f32::consts::PI + glossy).length()))
     };
     let (mut compared, mut masked) = (0, 0);
     for y in 0..h {
@@ -407,12 +418,11 @@ fn direct_only_reference_agrees_with_the_raster_frame() {
             compared += 1;
         }
     }
-    eprintln!("{compared} pixels compared, {masked} masked as edges");
+    eprintln!("{}: {compared} pixels compared, {masked} masked as edges", scene.name);
     assert!(
         compared > (w * h / 3) as usize,
         "only {compared} pixels compared"
     );
-    common::assert_no_validation_errors(&gpu);
 }
 
 #[test]

@@ -1,5 +1,6 @@
 #version 460
-// G-buffer: world position (w = 1 where covered), normal facing the camera, albedo, emission.
+// G-buffer: world position (w = 1 where covered), normal facing the camera, albedo, emission,
+// glossy reflectance and roughness.
 #include "common/scene.glsl"
 
 layout(binding = RASTER_TEXTURES, std430) readonly buffer Textures { uint texture_words[]; };
@@ -22,6 +23,7 @@ layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
 layout(location = 2) out vec4 out_albedo;
 layout(location = 3) out vec4 out_emission;
+layout(location = 4) out vec4 out_specular;
 
 void main() {
     // Surfaces are two-sided: turn both normals toward the viewer.
@@ -35,4 +37,5 @@ void main() {
     // Emission leaves the front face (by winding) only, unless the material is two-sided.
     bool emits = facing > 0.0 || m.emission.w > 0.5;
     out_emission = vec4(emits ? m.emission.rgb : vec3(0.0), 0.0);
+    out_specular = m.specular;
 }

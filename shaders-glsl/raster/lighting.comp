@@ -1,8 +1,9 @@
 #version 460
-// Deferred direct lighting of Lambertian surfaces: emission + albedo/pi * sum of shadowed
-// punctual-light irradiance, into the linear HDR target.
+// Deferred direct lighting: emission + the BRDF (albedo/pi and the glossy lobe of
+// common/brdf.glsl) times each shadowed punctual light's irradiance, into the linear HDR target.
 #include "common/math.glsl"
 #include "common/lights.glsl"
+#include "common/brdf.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
@@ -10,12 +11,14 @@ layout(binding = LIGHTING_GBUFFER_POSITION, rgba32f) readonly uniform image2D gb
 layout(binding = LIGHTING_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
 layout(binding = LIGHTING_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
 layout(binding = LIGHTING_GBUFFER_EMISSION, rgba16f) readonly uniform image2D gbuffer_emission;
+layout(binding = LIGHTING_GBUFFER_SPECULAR, rgba16f) readonly uniform image2D gbuffer_specular;
 layout(binding = LIGHTING_SHADOW_MAP) uniform sampler2DArray shadow_map;
 layout(binding = LIGHTING_LIGHTS, std430) readonly buffer Lights { Light lights[]; };
 layout(binding = LIGHTING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { ShadowView shadow_views[]; };
 layout(binding = LIGHTING_HDR_OUT, rgba32f) writeonly uniform image2D hdr_out;
 
 layout(push_constant) uniform Push {
+    vec4 camera_position;
     uvec2 size;
     uint light_count;
     uint include_direct;   // 0: indirect-only rendering, direct light and emission left out
@@ -33,7 +36,11 @@ void main() {
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
     vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
     vec3 radiance = imageLoad(gbuffer_emission, pixel).rgb;
+    vec4 specular = imageLoad(gbuffer_specular, pixel);
+    bool glossy = any(greaterThan(specular.rgb, vec3(0.0)));
+    vec3 to_eye = normalize(pc.camera_position.xyz - p);
     vec3 irradiance = vec3(0.0);
+    vec3 reflected = vec3(0.0);
     for (uint i = 0u; i < pc.light_count; ++i) {
         Light light = lights[i];
         vec3 to_light;
@@ -44,7 +51,8 @@ void main() {
         uint view = shadow_view_index(light, p);
         float visibility = shadow_visibility(shadow_map, shadow_views[view], view, p, n, distance);
         irradiance += e * (cos_theta * visibility);
+        if (glossy) reflected += e * visibility * glossy_cos(specular.rgb, specular.a, n, to_light, to_eye);
     }
-    radiance += albedo * INV_PI * irradiance;
+    radiance += albedo * INV_PI * irradiance + reflected;
     imageStore(hdr_out, pixel, vec4(radiance, 1.0));
 }

@@ -27,6 +27,7 @@ crate::push_constants! {
 
 crate::push_constants! {
     struct LightingPush {
+        camera_position: [f32; 4],
         size: [u32; 2],
         light_count: u32,
         include_direct: u32,
@@ -141,6 +142,7 @@ impl ScenePasses {
                 (&g.normal, 0, [0.0; 4]),
                 (&g.albedo, 0, [0.0; 4]),
                 (&g.emission, 0, [0.0; 4]),
+                (&g.specular, 0, [0.0; 4]),
             ],
             depth: Some((&g.depth, 0)),
             draw: Draw::Vertices(scene.vertex_count),
@@ -160,6 +162,7 @@ impl ScenePasses {
     ) -> GpuResult<()> {
         let g = &view.gbuffer;
         let push = LightingPush {
+            camera_position: view.eye.position.extend(1.0).to_array(),
             size: [view.width(), view.height()],
             light_count: scene.light_count,
             include_direct: u32::from(include_direct),
@@ -172,6 +175,7 @@ impl ScenePasses {
                 Binding::image_read(ids::LIGHTING_GBUFFER_NORMAL, &g.normal),
                 Binding::image_read(ids::LIGHTING_GBUFFER_ALBEDO, &g.albedo),
                 Binding::image_read(ids::LIGHTING_GBUFFER_EMISSION, &g.emission),
+                Binding::image_read(ids::LIGHTING_GBUFFER_SPECULAR, &g.specular),
                 Binding::sampled(ids::LIGHTING_SHADOW_MAP, shadows.0, shadows.1),
                 Binding::read(ids::LIGHTING_LIGHTS, &scene.lights),
                 Binding::read(ids::LIGHTING_SHADOW_VIEWS, &scene.shadow_views),

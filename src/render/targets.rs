@@ -12,8 +12,9 @@ use crate::scene::{Camera, Scene};
 pub const MAX_IMAGE_SIDE: u32 = 8192;
 
 /// Formats of the G-buffer's colour attachments: position, normal, albedo, emission.
-pub const GBUFFER_FORMATS: [vk::Format; 4] = [
+pub const GBUFFER_FORMATS: [vk::Format; 5] = [
     vk::Format::R32G32B32A32_SFLOAT,
+    vk::Format::R16G16B16A16_SFLOAT,
     vk::Format::R16G16B16A16_SFLOAT,
     vk::Format::R16G16B16A16_SFLOAT,
     vk::Format::R16G16B16A16_SFLOAT,
@@ -27,6 +28,8 @@ pub struct GBuffer {
     pub normal: Image,
     pub albedo: Image,
     pub emission: Image,
+    /// rgb reflectance of the glossy lobe, a = roughness (src/scene/brdf.rs).
+    pub specular: Image,
     pub depth: Image,
 }
 
@@ -74,6 +77,7 @@ impl View {
             normal: image("g-buffer normal", GBUFFER_FORMATS[1], attachment)?,
             albedo: image("g-buffer albedo", GBUFFER_FORMATS[2], attachment)?,
             emission: image("g-buffer emission", GBUFFER_FORMATS[3], attachment)?,
+            specular: image("g-buffer specular", GBUFFER_FORMATS[4], attachment)?,
             depth: image(
                 "g-buffer depth",
                 vk::Format::D32_SFLOAT,
