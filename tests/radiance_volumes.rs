@@ -8,7 +8,8 @@ mod common;
 
 use glam::{DVec3, Vec3};
 use vkgi::gi::radiance_volumes::cpu::{self, RsmTexel, Val};
-use vkgi::gi::radiance_volumes::passes::{RvState, stride};
+use vkgi::gi::radiance_volumes::passes::{RvState, specular_texels, stride};
+use vkgi::gi::radiance_volumes::specular::{self, HemisphereMap};
 use vkgi::gi::radiance_volumes::{Bands, RadianceVolumes, VolumeSettings, voxels};
 use vkgi::gi::registry::Setup;
 use vkgi::gi::{Follow, GiMethod};
@@ -36,6 +37,7 @@ fn settings(bands: Bands, resolution: u32, capacity: u32) -> VolumeSettings {
         voxels: 64,
         shadow_lod: 2,
         voxel_fade: 3,
+        specular: 0,
     }
 }
 
@@ -164,6 +166,56 @@ fn vals_caches_and_apply_match_their_f64_references_and_the_brute_force_gather()
     common::assert_no_validation_errors(&gpu);
 }
 
+#[test]
+fn specular_maps_and_their_glossy_lookup_match_the_f64_mirror() {
+    // Every cache's hemisphere map (each level) against the f64 map of the same VALs, and each
+    // glossy pixel's diffuse plus specular light against the f64 lookup of the GPU's maps.
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell-glossy").unwrap();
+    for side in [4, 8, 16] {
+        let s = VolumeSettings {
+            specular: side,
+            ..settings(Bands::L1, 16, 16384)
+        };
+        verify_against_f64(&gpu, &scene, s);
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// Per cache: its hemisphere map, every level.
+fn read_maps(gpu: &Gpu, rv: &RadianceVolumes, held: usize) -> Vec<HemisphereMap> {
+    let bytes = gpu.read_buffer(&rv.passes.specular).unwrap();
+    let vec4s: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    let side = rv.settings.specular;
+    let texels = specular_texels(side) as usize;
+    (0..held)
+        .map(|k| HemisphereMap {
+            side,
+            texels: vec4s[k * texels..(k + 1) * texels]
+                .iter()
+                .map(|t| dvec_f32(*t))
+                .collect(),
+        })
+        .collect()
+}
+
+/// Each cache's map against the f64 map of the same VALs: the texels of every level agree but
+/// where a VAL's half vector lies on a texel edge and f32 and f64 round it to neighbours (at
+/// most 1% of level-0 texels); the whole map's mean agrees to 1e-4.
+fn assert_maps_match(got: &[HemisphereMap], expected: &[HemisphereMap]) {
+    let (mut off, mut total) = (0, 0);
+    for (k, (g, e)) in got.iter().zip(expected).enumerate() {
+        let scale = e.texels.iter().fold(0.0f64, |m, t| m.max(t.max_element())).max(1e-12);
+        let top = e.texels.len() - 1;
+        assert_close_vec(g.texels[top], e.texels[top], scale, 1e-4, &format!("map {k} mean"));
+        for (gt, et) in g.texels.iter().zip(&e.texels).take((e.side * e.side) as usize) {
+            total += 1;
+            off += usize::from((*gt - *et).abs().max_element() > 1e-4 * scale);
+        }
+    }
+    assert!(off * 100 <= total, "{off} of {total} level-0 texels differ");
+}
+
 /// Check one frame's VALs, caches and apply against their f64 references; return the relative
 /// RMSE of the cached light against the brute-force gather over the same VALs.
 fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64 {
@@ -257,14 +309,29 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
         }
     }
 
+    // Every cache's hemisphere map: the f64 map of the GPU's VALs at its position.
+    let maps = if rv.settings.specular > 0 {
+        let maps = read_maps(gpu, &rv, held);
+        let eye = p.cascades.eye.as_dvec3();
+        let expected: Vec<HemisphereMap> = caches
+            .iter()
+            .map(|(x, _)| HemisphereMap::fill(read_level, (*x, eye), rv.settings.specular, |_| 1.0))
+            .collect();
+        assert_maps_match(&maps, &expected);
+        maps
+    } else {
+        Vec::new()
+    };
+
     // The apply pass: the f64 interpolation of the GPU's caches, and the brute-force gather.
     let address: Vec<u32> =
         bytemuck::cast_slice(&gpu.read_buffer(&p.address[p.last_set()]).unwrap()).to_vec();
     let g = &frame.views[0].gbuffer;
-    let (gp, gn, ga) = (
+    let (gp, gn, ga, gs) = (
         texels(gpu, &g.position),
         texels(gpu, &g.normal),
         texels(gpu, &g.albedo),
+        texels(gpu, &g.specular),
     );
     let hdr = frame.read_hdr(gpu).unwrap();
     let cascades = &p.cascades;
@@ -276,7 +343,17 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
             Some(cpu::irradiance(&caches[slot as usize - 1].1, n))
         })
     };
-    let (mut squared, mut reference_sum, mut pixels) = (0.0, 0.0, 0);
+    // The glossy lookup: the same corners and weights, each cache's map read at the pixel's
+    // normal (None: the pixel is not glossy, or faces away from the eye).
+    let glossy = |i: usize, x: Vec3, read: Option<((f64, f64), f64)>| {
+        read.map_or(DVec3::ZERO, |(uv, lod)| {
+            cpu::interpolate(cascades, (i, x, DVec3::ZERO), false, |slot| {
+                Some(maps[address[slot] as usize - 1].sample(uv, lod))
+            })
+        })
+    };
+    assert!(!front || maps.is_empty(), "the glossy check interpolates all corners");
+    let (mut squared, mut reference_sum, mut pixels, mut glossy_pixels) = (0.0, 0.0, 0, 0);
     let peak = hdr.iter().flatten().fold(0.0f32, |m, v| m.max(*v)) as f64;
     for (i, pixel) in hdr.iter().enumerate() {
         if gp[i][3] == 0.0 {
@@ -291,13 +368,28 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
             let b = f64::from(s.blend);
             e = e * (1.0 - b) + interpolate(s.cascade + 1, x.as_vec3(), n) * b;
         }
-        let expected = albedo * e / std::f64::consts::PI;
+        let gloss = dvec(gs[i]);
+        let lookup = (!maps.is_empty() && gloss != DVec3::ZERO)
+            .then(|| specular::lookup_at(x, n, cascades.eye.as_dvec3(), gs[i][3]))
+            .flatten();
+        let read = lookup.map(|(uv, _)| (uv, specular::lod(rv.settings.specular, gs[i][3])));
+        let mut m = glossy(s.cascade, x.as_vec3(), read);
+        if s.blend > 0.0 {
+            let b = f64::from(s.blend);
+            m = m * (1.0 - b) + glossy(s.cascade + 1, x.as_vec3(), read) * b;
+        }
+        let reflected = gloss * m * lookup.map_or(0.0, |(_, factor)| factor);
+        glossy_pixels += usize::from(reflected != DVec3::ZERO);
+        let expected = albedo * e / std::f64::consts::PI + reflected;
         let got = DVec3::new(pixel[0].into(), pixel[1].into(), pixel[2].into());
         assert_close_vec(got, expected, peak, 1e-3, &format!("pixel {i}"));
         let brute = albedo * cpu::gather(read_level, x, n) / std::f64::consts::PI;
         squared += (got - brute).length_squared();
         reference_sum += brute.element_sum() / 3.0;
         pixels += 1;
+    }
+    if !maps.is_empty() {
+        assert!(glossy_pixels > pixels / 4, "{glossy_pixels} of {pixels} pixels glossy");
     }
     (squared / (3.0 * pixels as f64)).sqrt() / (reference_sum / pixels as f64)
 }

@@ -118,9 +118,11 @@ mod tests {
                     pdf += (glossy_pdf(roughness, n, l, v) * area) as f64;
                     albedo += (glossy_cos(Vec3::ONE, roughness, n, l, v).x * area) as f64;
                 }
-                // Sampled normals facing away from v are lost, so the integral is at most 1.
-                assert!(pdf <= 1.0 + 2e-3 && pdf > 0.85, "r {roughness} tilt {tilt}: {pdf}");
-                assert!(albedo <= 1.0 + 2e-3 && albedo > 0.5, "r {roughness} tilt {tilt}: {albedo}");
+                // Sampled normals facing away from v are lost, so the integral is at most 1
+                // (0.68 at roughness 1, 69 degrees); single-scattering GGX loses much of a rough
+                // lobe (0.31 at roughness 1, normal incidence).
+                assert!(pdf <= 1.0 + 2e-3 && pdf > 0.6, "r {roughness} tilt {tilt}: {pdf}");
+                assert!(albedo <= 1.0 + 2e-3 && albedo > 0.25, "r {roughness} tilt {tilt}: {albedo}");
             }
         }
     }

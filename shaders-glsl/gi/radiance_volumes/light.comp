@@ -5,16 +5,21 @@
 // visibility of its block: VALs are visited in Morton order within each light view, so every
 // run of B² = 4^shadow_level VALs is one block, whose mean VAL (level `shadow_level` of the
 // chain) one cone is traced to through the occupancy mips. VALs are loaded into shared memory
-// RV_LIGHT_GROUP at a time, each thread then reads all of them.
+// RV_LIGHT_GROUP at a time, each thread then reads all of them. With indirect specular on, each
+// VAL's light also goes to the texel of its half vector in the cache's hemisphere map (as a
+// density, times side²/2π), and the cache's thread builds the map's mips (2x2 means) at the end:
+// one thread owns each map, so the read-modify-writes need no atomics.
 #include "common/math.glsl"
 #include "common/lights.glsl"
 #include "gi/shared/sh.glsl"
 #include "gi/radiance_volumes/state.glsl"
 #include "gi/radiance_volumes/val.glsl"
+#include "gi/radiance_volumes/specular.glsl"
 
 layout(local_size_x = RV_LIGHT_GROUP) in;
 
 layout(binding = RV_CACHES, std430) buffer Caches { vec4 caches[]; };
+layout(binding = RV_SPECULAR, std430) buffer Specular { vec4 specular[]; };
 layout(binding = RV_VALS, std430) readonly buffer Vals { Val vals[]; };
 layout(binding = RV_STATE, std430) readonly buffer State { RvState state; };
 layout(binding = RV_VOXELS, std430) readonly buffer Voxels { float voxels[]; };
@@ -23,6 +28,7 @@ layout(binding = RV_SHADOW_VIEWS, std430) readonly buffer ShadowViews { ShadowVi
 
 layout(push_constant) uniform Push {
     vec4 voxel_lo_size;   // the voxel cube's minimum corner, a voxel's side
+    vec4 eye;             // xyz: the cascades' eye, which every cache's map faces
     uint capacity;
     uint stride;
     uint coefficients;    // 4 (L1) or 9 (L2)
@@ -34,6 +40,8 @@ layout(push_constant) uniform Push {
     uint shadow_first;    // first VAL of that level
     uint shadows;         // 0: every VAL visible
     uint cone_steps;      // most samples of a cone
+    uint specular_side;   // side of a cache's hemisphere map (0: no indirect specular)
+    uint specular_texels; // texels of one cache's map, every level
 } pc;
 
 shared vec4 shared_position_area[RV_LIGHT_GROUP];
@@ -75,6 +83,24 @@ float block_visibility(VoxelGrid grid, vec3 x, uvec3 val) {
                            sqrt(mean.normal_area.w), pc.cone_steps);
 }
 
+// Every level of map `first` above 0 as the 2x2 mean of the level below.
+void build_specular_mips(uint first) {
+    uint side = pc.specular_side;
+    uint from = first;
+    for (uint level = 1u; level < rv_specular_levels(side); ++level) {
+        uint s = side >> level;
+        uint to = from + 4u * s * s;
+        for (uint y = 0u; y < s; ++y) {
+            for (uint x = 0u; x < s; ++x) {
+                uint child = from + 2u * y * 2u * s + 2u * x;
+                specular[to + y * s + x] = 0.25 * (specular[child] + specular[child + 1u]
+                    + specular[child + 2u * s] + specular[child + 2u * s + 1u]);
+            }
+        }
+        from = to;
+    }
+}
+
 void main() {
     uint held = min(state.requested, pc.capacity);
     uint index = gl_GlobalInvocationID.x;
@@ -88,6 +114,19 @@ void main() {
     float visibility = 1.0;
     vec3 c[SH_L2_COEFFICIENTS];
     for (uint i = 0u; i < SH_L2_COEFFICIENTS; ++i) c[i] = vec3(0.0);
+    // The cache's map frame: z toward the eye.
+    bool maps = holds_cache && pc.specular_side > 0u;
+    uint map_first = index * pc.specular_texels;
+    vec3 map_t = vec3(1.0, 0.0, 0.0);
+    vec3 map_b = vec3(0.0, 1.0, 0.0);
+    vec3 map_z = vec3(0.0, 0.0, 1.0);
+    float density = float(pc.specular_side * pc.specular_side) / (2.0 * PI);
+    if (maps) {
+        vec3 to_eye = pc.eye.xyz - x;
+        if (dot(to_eye, to_eye) > 0.0) map_z = normalize(to_eye);
+        orthonormal_basis(map_z, map_t, map_b);
+        for (uint i = 0u; i < pc.specular_side * pc.specular_side; ++i) specular[map_first + i] = vec4(0.0);
+    }
     for (uint base = 0u; base < val_count; base += RV_LIGHT_GROUP) {
         uint j = base + local;
         vec4 normal = vec4(0.0);
@@ -122,10 +161,16 @@ void main() {
                 float y[SH_L2_COEFFICIENTS];
                 sh_l2_basis(w, y);
                 for (uint i = 0u; i < pc.coefficients; ++i) c[i] += e * y[i];
+                if (maps) {
+                    uint texel = rv_specular_texel(vec3(dot(w, map_t), dot(w, map_b), dot(w, map_z)),
+                                                   pc.specular_side);
+                    if (texel != 0xFFFFFFFFu) specular[map_first + texel] += vec4(e * density, 0.0);
+                }
             }
         }
         barrier();
     }
     if (!holds_cache) return;
     for (uint i = 0u; i < pc.coefficients; ++i) caches[index * pc.stride + 1u + i] = vec4(c[i], 0.0);
+    if (maps) build_specular_mips(map_first);
 }

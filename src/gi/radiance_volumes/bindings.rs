@@ -18,6 +18,8 @@ crate::shared_constants! {
     RV_TRIANGLES: u32 = 14;
     RV_VOXEL_TARGET: u32 = 15;
     RV_VOXELS: u32 = 16;
+    RV_SPECULAR: u32 = 17;
+    RV_GBUFFER_SPECULAR: u32 = 18;
     /// Side of the allocation pass's pixel tiles (spec 001 §4.2).
     RV_TILE: u32 = 16;
     /// Threads of the cache-lighting workgroups (one cache each; VALs are loaded this many at

@@ -10,6 +10,7 @@ pub mod bindings;
 pub mod cascades;
 pub mod cpu;
 pub mod passes;
+pub mod specular;
 pub mod voxels;
 
 use crate::error::InputError;
@@ -105,6 +106,12 @@ const SETTINGS: &[Setting] = &[
         "One shadow cone per 2^L x 2^L block of VALs, aimed at the block's mean VAL",
     ),
     Setting::new(
+        "specular",
+        Kind::Choice(&["auto", "off", "4", "8", "16", "32"]),
+        "auto",
+        "Side of each cache's hemisphere map of incoming light, which glossy surfaces reflect (spec 001 §4.7): 4 to 32 texels, off, or auto (8 where the scene has a glossy material, else off)",
+    ),
+    Setting::new(
         "voxel-fade",
         Kind::Int { min: 1, max: 120 },
         "3",
@@ -160,10 +167,16 @@ pub struct VolumeSettings {
     pub voxels: u32,
     pub shadow_lod: u32,
     pub voxel_fade: u32,
+    /// Side of each cache's specular hemisphere map (0: no indirect specular).
+    pub specular: u32,
 }
 
+/// The map side `--specular auto` picks for a scene with a glossy material.
+pub const AUTO_SPECULAR_SIDE: u32 = 8;
+
 impl VolumeSettings {
-    pub fn parse(settings: &Settings) -> Result<Self, InputError> {
+    /// The settings for `scene` (which decides `--specular auto`).
+    pub fn parse(settings: &Settings, scene: &Scene) -> Result<Self, InputError> {
         let rsm = settings.text("rsm")?;
         // Choices of whole numbers (powers of two), already checked against their lists.
         let parse_whole = |name: &str, text: &str| {
@@ -188,6 +201,14 @@ impl VolumeSettings {
             voxels: parse_whole("voxels", settings.text("voxels")?)?,
             shadow_lod: settings.u32("shadow-lod")?,
             voxel_fade: settings.u32("voxel-fade")?,
+            specular: match settings.text("specular")? {
+                "off" => 0,
+                "auto" if scene.materials.iter().any(|m| m.specular != glam::Vec3::ZERO) => {
+                    AUTO_SPECULAR_SIDE
+                }
+                "auto" => 0,
+                side => parse_whole("specular", side)?,
+            },
         })
     }
 }
@@ -199,7 +220,7 @@ pub struct RadianceVolumes {
 
 impl RadianceVolumes {
     pub fn new(setup: &Setup, settings: &Settings) -> anyhow::Result<RadianceVolumes> {
-        RadianceVolumes::with(setup, VolumeSettings::parse(settings)?)
+        RadianceVolumes::with(setup, VolumeSettings::parse(settings, setup.scene)?)
     }
 
     pub fn with(setup: &Setup, settings: VolumeSettings) -> anyhow::Result<RadianceVolumes> {
@@ -300,6 +321,15 @@ impl GiMethod for RadianceVolumes {
                 )
             } else {
                 "radiance volumes: no indirect shadows (every VAL reaches every cache)".into()
+            },
+            if s.specular > 0 {
+                format!(
+                    "radiance volumes: indirect specular from a {}² hemisphere map per cache ({} levels)",
+                    s.specular,
+                    specular::levels(s.specular)
+                )
+            } else {
+                "radiance volumes: no indirect specular".into()
             },
             format!(
                 "radiance volumes: {} caches held in the frame before the last, {} refused (cache buffer full), {} corners missing, {} pixels beyond the cascades",

@@ -64,6 +64,7 @@ crate::push_constants! {
 crate::push_constants! {
     struct LightPush {
         voxel_lo_size: [f32; 4],
+        eye: [f32; 4],
         capacity: u32,
         stride: u32,
         coefficients: u32,
@@ -75,6 +76,8 @@ crate::push_constants! {
         shadow_first: u32,
         shadows: u32,
         cone_steps: u32,
+        specular_side: u32,
+        specular_texels: u32,
     }
 }
 
@@ -111,6 +114,8 @@ crate::push_constants! {
         stride: u32,
         coefficients: u32,
         front_only: u32,
+        specular_side: u32,
+        specular_texels: u32,
     }
 }
 
@@ -176,6 +181,9 @@ pub struct Passes {
     pub address: [Buffer; 2],
     /// Per cache: its position (w: cascade), then its SH coefficients (rgb), one vec4 each.
     pub caches: Buffer,
+    /// Per cache: its hemisphere map of incoming light, every level (one vec4 a texel; one
+    /// texel in all when indirect specular is off).
+    pub specular: Buffer,
     /// The counters, per frame parity.
     pub state: [Buffer; 2],
     state_copy: Buffer,
@@ -196,6 +204,15 @@ pub struct Passes {
 
 /// Threads of a one-dimensional dispatch along x within the guaranteed 65 535 workgroups of 64.
 const MAX_THREADS_X: u32 = 65_535 * 64;
+
+/// Texels of one cache's specular map, every level (0 when off).
+pub fn specular_texels(side: u32) -> u32 {
+    if side == 0 {
+        0
+    } else {
+        super::specular::texels_per_cache(side)
+    }
+}
 
 /// vec4s per cache: its position and its coefficients.
 pub fn stride(bands: Bands) -> u32 {
@@ -242,6 +259,9 @@ impl Passes {
         check_buffer(gpu, "the cache address volume", corners * 4)?;
         let cache_bytes = u64::from(settings.capacity) * u64::from(stride(settings.bands)) * 16;
         check_buffer(gpu, "the cache buffer", cache_bytes)?;
+        let specular_bytes =
+            u64::from(settings.capacity) * u64::from(specular_texels(settings.specular)) * 16;
+        check_buffer(gpu, "the specular maps", specular_bytes)?;
         let first_side = first_cascade_side(scene, settings);
         let state_bytes = std::mem::size_of::<RvState>() as u64;
         let state_buffer = |name| {
@@ -261,6 +281,10 @@ impl Passes {
                 gpu.create_buffer(&BufferDesc::storage("rv address volume", corners * 4))?,
             ],
             caches: gpu.create_buffer(&BufferDesc::storage("rv caches", cache_bytes))?,
+            specular: gpu.create_buffer(&BufferDesc::storage(
+                "rv specular maps",
+                specular_bytes.max(16),
+            ))?,
             state: [state_buffer("rv state")?, state_buffer("rv state")?],
             state_copy: gpu.create_buffer(&BufferDesc {
                 name: "rv state (host copy)",
@@ -300,6 +324,7 @@ impl Passes {
         let rsm = texels * (40 * u64::from(self.rsm.layers) + 4);
         vec![
             ("caches", self.caches.size),
+            ("specular maps", self.specular.size),
             ("address volumes", 2 * self.address[0].size),
             ("VAL chain", self.vals.size),
             ("voxels", self.voxels.target.size + self.voxels.volume.size),
@@ -424,6 +449,7 @@ impl Passes {
                 pipeline: &self.pipelines.light,
                 bindings: &[
                     Binding::write(ids::RV_CACHES, &self.caches),
+                    Binding::write(ids::RV_SPECULAR, &self.specular),
                     Binding::read(ids::RV_VALS, &self.vals),
                     Binding::read(ids::RV_STATE, &self.state[self.parity]),
                     Binding::read(ids::RV_VOXELS, &self.voxels.volume),
@@ -431,6 +457,7 @@ impl Passes {
                 ],
                 push: &LightPush {
                     voxel_lo_size: grid.min.extend(grid.voxel).to_array(),
+                    eye: self.cascades.eye.extend(1.0).to_array(),
                     capacity: settings.capacity,
                     stride: stride(settings.bands),
                     coefficients: settings.bands.coefficients(),
@@ -442,6 +469,8 @@ impl Passes {
                     shadow_first: shadow.1.first,
                     shadows: u32::from(settings.shadows),
                     cone_steps: super::voxels::CONE_STEPS,
+                    specular_side: settings.specular,
+                    specular_texels: specular_texels(settings.specular),
                 },
                 threads: [0; 3],
             },
@@ -553,9 +582,11 @@ impl Passes {
                 Binding::image_read(ids::RV_GBUFFER_POSITION, &g.position),
                 Binding::image_read(ids::RV_GBUFFER_NORMAL, &g.normal),
                 Binding::image_read(ids::RV_GBUFFER_ALBEDO, &g.albedo),
+                Binding::image_read(ids::RV_GBUFFER_SPECULAR, &g.specular),
                 Binding::image_write(ids::RV_HDR, &view.hdr),
                 Binding::read(ids::RV_ADDRESS, &self.address[set]),
                 Binding::read(ids::RV_CACHES, &self.caches),
+                Binding::read(ids::RV_SPECULAR, &self.specular),
                 Binding::write(ids::RV_STATE, &self.state[set]),
             ],
             push: &ApplyPush {
@@ -567,6 +598,8 @@ impl Passes {
                 stride: stride(settings.bands),
                 coefficients: settings.bands.coefficients(),
                 front_only: u32::from(settings.front_corners),
+                specular_side: settings.specular,
+                specular_texels: specular_texels(settings.specular),
             },
             threads: [view.width(), view.height(), 1],
         })
