@@ -152,7 +152,7 @@ fn vals_caches_and_apply_match_their_f64_references_and_the_brute_force_gather()
                     front_corners: front,
                     ..settings(Bands::L2, resolution, 16384)
                 };
-                verify_against_f64(&gpu, &scene, s)
+                verify_against_f64(&gpu, &scene, s).0
             })
             .to_vec();
         assert!(
@@ -168,21 +168,39 @@ fn vals_caches_and_apply_match_their_f64_references_and_the_brute_force_gather()
 
 #[test]
 fn specular_maps_and_their_glossy_lookup_match_the_f64_mirror() {
-    // Every cache's hemisphere map (each level) against the f64 map of the same VALs, and each
-    // glossy pixel's diffuse plus specular light against the f64 lookup of the GPU's maps.
+    // Every cache's hemisphere map against the f64 map of the same VALs, and each glossy
+    // pixel's diffuse plus specular light against the f64 lookup of the GPU's maps, with all
+    // corners and with front corners. Finer cascades bring the caches closer to the pixels
+    // they serve: the glossy part's error against the brute-force gather over the same VALs
+    // falls with the resolution at every map side.
     let gpu = common::gpu();
     let scene = Scene::load("cornell-glossy").unwrap();
     for side in [4, 8, 16] {
-        let s = VolumeSettings {
-            specular: side,
-            ..settings(Bands::L1, 16, 16384)
-        };
-        verify_against_f64(&gpu, &scene, s);
+        let errors: Vec<f64> = [16, 32, 64]
+            .map(|resolution| {
+                let s = VolumeSettings {
+                    specular: side,
+                    ..settings(Bands::L1, resolution, 16384)
+                };
+                verify_against_f64(&gpu, &scene, s).1
+            })
+            .to_vec();
+        eprintln!("side {side}: glossy error {errors:?} at resolution 16, 32, 64");
+        // Measured: 2.73 2.60 2.60 (side 4), 2.65 2.27 2.24 (8), 2.69 2.18 2.17 (16). The walls
+        // sit in the coarsest cascade of this small view, whose caches are 4 first-cascade
+        // cells from them; the error is mostly that parallax (docs/radiance-volumes.md).
+        assert!(errors[1] < errors[0] && errors[2] <= errors[1] * 1.01, "side {side}: {errors:?}");
     }
+    let front = VolumeSettings {
+        specular: 8,
+        front_corners: true,
+        ..settings(Bands::L1, 32, 16384)
+    };
+    eprintln!("front corners: {:?}", verify_against_f64(&gpu, &scene, front));
     common::assert_no_validation_errors(&gpu);
 }
 
-/// Per cache: its hemisphere map, every level.
+/// Per cache: its hemisphere map.
 fn read_maps(gpu: &Gpu, rv: &RadianceVolumes, held: usize) -> Vec<HemisphereMap> {
     let bytes = gpu.read_buffer(&rv.passes.specular).unwrap();
     let vec4s: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
@@ -199,16 +217,17 @@ fn read_maps(gpu: &Gpu, rv: &RadianceVolumes, held: usize) -> Vec<HemisphereMap>
         .collect()
 }
 
-/// Each cache's map against the f64 map of the same VALs: the texels of every level agree but
-/// where a VAL's half vector lies on a texel edge and f32 and f64 round it to neighbours (at
-/// most 1% of level-0 texels); the whole map's mean agrees to 1e-4.
+/// Each cache's map against the f64 map of the same VALs: the texels agree but where a VAL's
+/// half vector lies on a texel edge and f32 and f64 round it to neighbours (at most 1% of
+/// texels); the whole map's sum agrees to 1e-4.
 fn assert_maps_match(got: &[HemisphereMap], expected: &[HemisphereMap]) {
     let (mut off, mut total) = (0, 0);
     for (k, (g, e)) in got.iter().zip(expected).enumerate() {
         let scale = e.texels.iter().fold(0.0f64, |m, t| m.max(t.max_element())).max(1e-12);
-        let top = e.texels.len() - 1;
-        assert_close_vec(g.texels[top], e.texels[top], scale, 1e-4, &format!("map {k} mean"));
-        for (gt, et) in g.texels.iter().zip(&e.texels).take((e.side * e.side) as usize) {
+        let sum = |m: &HemisphereMap| m.texels.iter().sum::<DVec3>();
+        let count = e.texels.len() as f64;
+        assert_close_vec(sum(g), sum(e), scale * count, 1e-4, &format!("map {k} sum"));
+        for (gt, et) in g.texels.iter().zip(&e.texels) {
             total += 1;
             off += usize::from((*gt - *et).abs().max_element() > 1e-4 * scale);
         }
@@ -217,8 +236,9 @@ fn assert_maps_match(got: &[HemisphereMap], expected: &[HemisphereMap]) {
 }
 
 /// Check one frame's VALs, caches and apply against their f64 references; return the relative
-/// RMSE of the cached light against the brute-force gather over the same VALs.
-fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64 {
+/// RMSE of the cached light against the brute-force gather over the same VALs, and that of its
+/// glossy part alone (NaN without glossy pixels).
+fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> (f64, f64) {
     let (frame, rv) = run(gpu, scene, settings);
     let st = state(gpu, &rv);
     assert_eq!((st.refused, st.missing, st.beyond), (0, 0, 0), "{st:?}");
@@ -343,17 +363,17 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
             Some(cpu::irradiance(&caches[slot as usize - 1].1, n))
         })
     };
-    // The glossy lookup: the same corners and weights, each cache's map read at the pixel's
-    // normal (None: the pixel is not glossy, or faces away from the eye).
-    let glossy = |i: usize, x: Vec3, read: Option<((f64, f64), f64)>| {
-        read.map_or(DVec3::ZERO, |(uv, lod)| {
-            cpu::interpolate(cascades, (i, x, DVec3::ZERO), false, |slot| {
-                Some(maps[address[slot] as usize - 1].sample(uv, lod))
+    // The glossy lookup: the same corners and weights, each cache's map read under the pixel's
+    // lobe (None: the pixel is not glossy, or faces away from the eye).
+    let glossy = |i: usize, x: Vec3, n: DVec3, read: Option<(DVec3, f64)>| {
+        read.map_or(DVec3::ZERO, |(n_local, alpha)| {
+            cpu::interpolate(cascades, (i, x, n), front, |slot| {
+                Some(maps[address[slot] as usize - 1].under_lobe(n_local, alpha))
             })
         })
     };
-    assert!(!front || maps.is_empty(), "the glossy check interpolates all corners");
     let (mut squared, mut reference_sum, mut pixels, mut glossy_pixels) = (0.0, 0.0, 0, 0);
+    let (mut glossy_squared, mut glossy_sum) = (0.0, 0.0);
     let peak = hdr.iter().flatten().fold(0.0f32, |m, v| m.max(*v)) as f64;
     for (i, pixel) in hdr.iter().enumerate() {
         if gp[i][3] == 0.0 {
@@ -372,26 +392,35 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> f64
         let lookup = (!maps.is_empty() && gloss != DVec3::ZERO)
             .then(|| specular::lookup_at(x, n, cascades.eye.as_dvec3(), gs[i][3]))
             .flatten();
-        let read = lookup.map(|(uv, _)| (uv, specular::lod(rv.settings.specular, gs[i][3])));
-        let mut m = glossy(s.cascade, x.as_vec3(), read);
+        let read = lookup.map(|(n_local, _)| (n_local, gs[i][3] * gs[i][3]));
+        let mut m = glossy(s.cascade, x.as_vec3(), n, read);
         if s.blend > 0.0 {
             let b = f64::from(s.blend);
-            m = m * (1.0 - b) + glossy(s.cascade + 1, x.as_vec3(), read) * b;
+            m = m * (1.0 - b) + glossy(s.cascade + 1, x.as_vec3(), n, read) * b;
         }
         let reflected = gloss * m * lookup.map_or(0.0, |(_, factor)| factor);
         glossy_pixels += usize::from(reflected != DVec3::ZERO);
         let expected = albedo * e / std::f64::consts::PI + reflected;
         let got = DVec3::new(pixel[0].into(), pixel[1].into(), pixel[2].into());
         assert_close_vec(got, expected, peak, 1e-3, &format!("pixel {i}"));
-        let brute = albedo * cpu::gather(read_level, x, n) / std::f64::consts::PI;
-        squared += (got - brute).length_squared();
-        reference_sum += brute.element_sum() / 3.0;
+        let diffuse = albedo * cpu::gather(read_level, x, n) / std::f64::consts::PI;
+        let eye = cascades.eye.as_dvec3();
+        let glossy_brute = if lookup.is_some() {
+            specular::gather(read_level, (x, n, eye), gloss, gs[i][3])
+        } else {
+            DVec3::ZERO
+        };
+        squared += (got - diffuse - glossy_brute).length_squared();
+        reference_sum += (diffuse + glossy_brute).element_sum() / 3.0;
+        glossy_squared += (reflected - glossy_brute).length_squared();
+        glossy_sum += glossy_brute.element_sum() / 3.0;
         pixels += 1;
     }
     if !maps.is_empty() {
         assert!(glossy_pixels > pixels / 4, "{glossy_pixels} of {pixels} pixels glossy");
     }
-    (squared / (3.0 * pixels as f64)).sqrt() / (reference_sum / pixels as f64)
+    let relative = |squared: f64, sum: f64| (squared / (3.0 * pixels as f64)).sqrt() / (sum / pixels as f64);
+    (relative(squared, reference_sum), relative(glossy_squared, glossy_sum))
 }
 
 #[test]

@@ -51,9 +51,9 @@ struct GlossyVariant {
 const GLOSSY_VARIANTS: &[GlossyVariant] = &[
     GlossyVariant {
         name: "cornell-glossy",
-        about: "cornell with glossy white surfaces (reflectance 0.2, roughness 0.35)",
+        about: "cornell with glossy red and green walls (reflectance 0.3, roughness 0.3): they reflect the lit floor",
         base: "cornell",
-        gloss: &[("white", 0.2, 0.35)],
+        gloss: &[("red", 0.3, 0.3), ("green", 0.3, 0.3)],
     },
     GlossyVariant {
         name: "atrium-glossy",

@@ -4,9 +4,9 @@
 // first, blended with the next cascade near a decision box's face, and added to the view's HDR
 // image as albedo / pi · E. Corners without a cache are counted (the allocation invariant says
 // none are); corners refused for a full cache buffer are left out and the weights renormalised.
-// Glossy pixels (indirect specular on) also read each corner cache's hemisphere map at their
-// normal, in the frame of the pixel toward the eye, filtered at the roughness's mip level, with
-// the same weights, and add specular · G1(n·v)² / (4 n·v) times it (specular.rs explains why).
+// Glossy pixels (indirect specular on) also blend the corner caches' hemisphere maps with the
+// same weights and sum them under their GGX lobe, in the frame of the pixel toward the eye:
+// specular · G1(n·v) / (4 n·v) · Σ_k T_k ⟨D(n·h) G1(n·l(h))⟩_k ΔΩ (specular.rs explains it).
 #include "common/math.glsl"
 #include "common/brdf.glsl"
 #include "gi/shared/sh.glsl"
@@ -39,11 +39,10 @@ layout(push_constant) uniform Push {
     uint specular_texels;
 } pc;
 
-// Where and how finely a glossy pixel reads the maps (uv < 0: it reads none).
-struct MapRead {
-    vec2 uv;
-    float lod;
-};
+// The caches a glossy pixel blends the maps of, with their weights (both cascades' corners).
+uint map_cache[16];
+float map_weight[16];
+uint map_count = 0u;
 
 RvGrid grid() {
     return RvGrid(pc.eye_side.xyz, pc.eye_side.w, pc.cascade_count, pc.resolution, pc.transition);
@@ -59,30 +58,10 @@ vec3 cache_irradiance(uint index, vec3 n) {
     return max(e, vec3(0.0));
 }
 
-// Level `level` of cache `index`'s map at uv, bilinear between the texel centres.
-vec3 map_level(uint index, uint level, vec2 uv) {
-    uint s = pc.specular_side >> level;
-    uint first = index * pc.specular_texels + rv_specular_level_offset(pc.specular_side, level);
-    vec2 at = clamp(uv * float(s) - 0.5, vec2(0.0), vec2(float(s - 1u)));
-    uvec2 lo = uvec2(floor(at));
-    vec2 f = at - vec2(lo);
-    uvec2 hi = min(lo + 1u, uvec2(s - 1u));
-    vec3 a = mix(specular[first + lo.y * s + lo.x].rgb, specular[first + lo.y * s + hi.x].rgb, f.x);
-    vec3 b = mix(specular[first + hi.y * s + lo.x].rgb, specular[first + hi.y * s + hi.x].rgb, f.x);
-    return mix(a, b, f.y);
-}
-
-// Cache `index`'s map at uv, trilinear at lod.
-vec3 map_sample(uint index, MapRead read) {
-    uint below = uint(floor(read.lod));
-    float f = read.lod - float(below);
-    vec3 lower = map_level(index, below, read.uv);
-    return f > 0.0 ? mix(lower, map_level(index, below + 1u, read.uv), f) : lower;
-}
-
-// The irradiance (and in `glossy`, the filtered map) interpolated from cascade `cascade`.
-vec3 interpolate(uint cascade, vec3 p, vec3 n, MapRead read, out vec3 glossy, inout uint missing) {
-    glossy = vec3(0.0);
+// The irradiance interpolated from cascade `cascade`; with `maps`, the same corner caches and
+// their normalised weights times `share` go to the map list.
+vec3 interpolate(uint cascade, vec3 p, vec3 n, bool maps, float share, inout uint missing) {
+    uint first = map_count;
     uvec3 g;
     vec3 f;
     rv_cell(grid(), cascade, p, g, f);
@@ -107,11 +86,57 @@ vec3 interpolate(uint cascade, vec3 p, vec3 n, MapRead read, out vec3 glossy, in
         }
         if (value == RV_REFUSED) continue;
         sum += w * cache_irradiance(value - 1u, n);
-        if (read.uv.x >= 0.0) glossy += w * map_sample(value - 1u, read);
         weights += w;
+        if (maps) {
+            map_cache[map_count] = value - 1u;
+            map_weight[map_count] = w;
+            map_count += 1u;
+        }
     }
-    if (weights > 0.0) glossy /= weights;
+    for (uint i = first; i < map_count; ++i) map_weight[i] *= share / weights;
     return weights > 0.0 ? sum / weights : vec3(0.0);
+}
+
+// D(n·h) G1(n·l(h)) for the lobe of width² a2 around local n, l(h) reflecting the eye (local
+// z); 0 where h or l is below the surface.
+float lobe_weight(vec3 n, vec3 h, float a2) {
+    float n_h = dot(n, h);
+    float n_l = dot(n, h * (2.0 * h.z) - vec3(0.0, 0.0, 1.0));
+    return n_h > 0.0 && n_l > 0.0 ? ggx_d(n_h, a2) * smith_g1(n_l, a2) : 0.0;
+}
+
+// The blended maps under the GGX lobe of width alpha around the local normal n, texel by
+// texel, near a narrow lobe's axis at several points a texel (specular.rs `under_lobe`).
+vec3 under_lobe(vec3 n, float alpha) {
+    uint side = pc.specular_side;
+    float a2 = alpha * alpha;
+    uint samples = rv_texel_samples(alpha, side);
+    float near = rv_near_cosine(alpha, side);
+    float texel = 2.0 * PI / float(side * side);
+    vec3 sum = vec3(0.0);
+    for (uint k = 0u; k < side * side; ++k) {
+        vec3 centre = rv_texel_centre(k, side);
+        float w = 0.0;
+        if (samples > 1u && dot(n, centre) > near) {
+            vec2 corner = vec2(k % side, k / side);
+            for (uint j = 0u; j < samples; ++j) {
+                for (uint i = 0u; i < samples; ++i) {
+                    vec2 uv = (corner + (vec2(i, j) + 0.5) / float(samples)) / float(side);
+                    w += lobe_weight(n, rv_hemisphere_unmap(uv), a2);
+                }
+            }
+            w /= float(samples * samples);
+        } else {
+            w = lobe_weight(n, centre, a2);
+        }
+        if (w == 0.0) continue;
+        vec3 t = vec3(0.0);
+        for (uint i = 0u; i < map_count; ++i) {
+            t += map_weight[i] * specular[map_cache[i] * pc.specular_texels + k].rgb;
+        }
+        sum += t * (w * texel);
+    }
+    return sum;
 }
 
 void main() {
@@ -130,28 +155,21 @@ void main() {
     vec3 n = normalize(stored);
     // A glossy pixel facing the eye reads the maps at its normal in its own frame.
     vec4 gloss = imageLoad(gbuffer_specular, pixel);
-    MapRead read = MapRead(vec2(-1.0), 0.0);
-    float lobe = 0.0;
     vec3 v = pc.eye_side.xyz - position.xyz;
-    if (pc.specular_side > 0u && any(greaterThan(gloss.rgb, vec3(0.0))) && dot(v, v) > 0.0) {
-        v = normalize(v);
-        float n_v = dot(n, v);
-        if (n_v > 0.0) {
-            float a = gloss.a * gloss.a;
-            float g1 = smith_g1(n_v, a * a);
-            lobe = g1 * g1 / (4.0 * n_v);
-            read = MapRead(rv_hemisphere_map(rv_local(n, v)), rv_specular_lod(pc.specular_side, gloss.a));
-        }
-    }
+    v = dot(v, v) > 0.0 ? normalize(v) : n;
+    float n_v = dot(n, v);
+    bool maps = pc.specular_side > 0u && any(greaterThan(gloss.rgb, vec3(0.0))) && n_v > 0.0;
     uint missing = 0u;
-    vec3 glossy;
-    vec3 e = interpolate(cascade, position.xyz, n, read, glossy, missing);
+    vec3 e = interpolate(cascade, position.xyz, n, maps, 1.0 - blend, missing);
     if (blend > 0.0) {
-        vec3 next_glossy;
-        e = mix(e, interpolate(cascade + 1u, position.xyz, n, read, next_glossy, missing), blend);
-        glossy = mix(glossy, next_glossy, blend);
+        e = mix(e, interpolate(cascade + 1u, position.xyz, n, maps, blend, missing), blend);
     }
     if (missing > 0u) atomicAdd(state.missing, missing);
-    vec3 radiance = imageLoad(gbuffer_albedo, pixel).rgb * INV_PI * e + gloss.rgb * lobe * glossy;
+    vec3 radiance = imageLoad(gbuffer_albedo, pixel).rgb * INV_PI * e;
+    if (maps) {
+        float alpha = gloss.a * gloss.a;
+        float g1 = smith_g1(n_v, alpha * alpha);
+        radiance += gloss.rgb * (g1 / (4.0 * n_v)) * under_lobe(rv_local(n, v), alpha);
+    }
     imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(radiance, 0.0));
 }

@@ -7,8 +7,7 @@
 // chain) one cone is traced to through the occupancy mips. VALs are loaded into shared memory
 // RV_LIGHT_GROUP at a time, each thread then reads all of them. With indirect specular on, each
 // VAL's light also goes to the texel of its half vector in the cache's hemisphere map (as a
-// density, times side²/2π), and the cache's thread builds the map's mips (2x2 means) at the end:
-// one thread owns each map, so the read-modify-writes need no atomics.
+// density, times side²/2π): one thread owns each map, so the read-modify-writes need no atomics.
 #include "common/math.glsl"
 #include "common/lights.glsl"
 #include "gi/shared/sh.glsl"
@@ -41,7 +40,7 @@ layout(push_constant) uniform Push {
     uint shadows;         // 0: every VAL visible
     uint cone_steps;      // most samples of a cone
     uint specular_side;   // side of a cache's hemisphere map (0: no indirect specular)
-    uint specular_texels; // texels of one cache's map, every level
+    uint specular_texels; // texels of one cache's map
 } pc;
 
 shared vec4 shared_position_area[RV_LIGHT_GROUP];
@@ -81,24 +80,6 @@ float block_visibility(VoxelGrid grid, vec3 x, uvec3 val) {
     vec3 normal = len > 0.0 ? mean.normal_area.xyz / len : vec3(0.0, 0.0, 1.0);
     return cone_visibility(grid, x, mean.position_texels.xyz, normal, s,
                            sqrt(mean.normal_area.w), pc.cone_steps);
-}
-
-// Every level of map `first` above 0 as the 2x2 mean of the level below.
-void build_specular_mips(uint first) {
-    uint side = pc.specular_side;
-    uint from = first;
-    for (uint level = 1u; level < rv_specular_levels(side); ++level) {
-        uint s = side >> level;
-        uint to = from + 4u * s * s;
-        for (uint y = 0u; y < s; ++y) {
-            for (uint x = 0u; x < s; ++x) {
-                uint child = from + 2u * y * 2u * s + 2u * x;
-                specular[to + y * s + x] = 0.25 * (specular[child] + specular[child + 1u]
-                    + specular[child + 2u * s] + specular[child + 2u * s + 1u]);
-            }
-        }
-        from = to;
-    }
 }
 
 void main() {
@@ -172,5 +153,4 @@ void main() {
     }
     if (!holds_cache) return;
     for (uint i = 0u; i < pc.coefficients; ++i) caches[index * pc.stride + 1u + i] = vec4(c[i], 0.0);
-    if (maps) build_specular_mips(map_first);
 }

@@ -3,8 +3,7 @@
 // Per-cache hemisphere maps of incoming light (spec 001 §4.7); src/gi/radiance_volumes/
 // specular.rs is the f64 mirror and explains the quantities. A cache's map covers the half
 // vectors around z = the direction to the cascades' eye, in the concentric square map of the
-// Lambert equal-area disc (every level-0 texel subtends 2π/side² sr); its levels follow one
-// another in the cache's block of `rv_specular_texels(side)` vec4s.
+// Lambert equal-area disc (every texel subtends 2π/side² sr), side² vec4s per cache.
 #include "common/math.glsl"
 #include "common/sampling.glsl"
 
@@ -28,18 +27,26 @@ vec3 rv_local(vec3 d, vec3 z) {
     return vec3(dot(d, t), dot(d, b), dot(d, z));
 }
 
-uint rv_specular_levels(uint side) {
-    return findLSB(side) + 1u;
+// The direction [`rv_hemisphere_map`] sends to uv.
+vec3 rv_hemisphere_unmap(vec2 uv) {
+    vec2 ab = uv - 0.5;
+    float r = max(abs(ab.x), abs(ab.y));
+    if (r == 0.0) return vec3(0.0, 0.0, 1.0);
+    float phi;
+    if (abs(ab.x) >= abs(ab.y)) phi = ab.x > 0.0 ? ab.y / r : 4.0 - ab.y / r;
+    else phi = ab.y > 0.0 ? 2.0 - ab.x / r : 6.0 + ab.x / r;
+    phi *= PI / 4.0;
+    float z = 1.0 - 4.0 * r * r;
+    float s = sqrt(max(1.0 - z * z, 0.0));
+    return vec3(s * cos(phi), s * sin(phi), z);
 }
 
-// Where level `level` starts in a cache's texels.
-uint rv_specular_level_offset(uint side, uint level) {
-    uint offset = 0u;
-    for (uint l = 0u; l < level; ++l) offset += (side >> l) * (side >> l);
-    return offset;
+// The direction at the centre of texel k of a map of `side`.
+vec3 rv_texel_centre(uint k, uint side) {
+    return rv_hemisphere_unmap((vec2(k % side, k / side) + 0.5) / float(side));
 }
 
-// The level-0 texel holding the half vector of light from local direction l (RV_NONE for
+// The texel holding the half vector of light from local direction l (RV_NONE for
 // light from straight behind).
 uint rv_specular_texel(vec3 l, uint side) {
     vec3 sum = l + vec3(0.0, 0.0, 1.0);
@@ -49,10 +56,20 @@ uint rv_specular_texel(vec3 l, uint side) {
     return texel.y * side + texel.x;
 }
 
-// The mip level whose bilinear footprint is about as wide as the GGX lobe (specular.rs `lod`).
-float rv_specular_lod(uint side, float roughness) {
-    float alpha = roughness * roughness;
-    return clamp(log2(float(side) * alpha * 0.5), 0.0, float(rv_specular_levels(side) - 1u));
+// A texel's angular size near the map's centre, in radians of half-vector angle.
+float rv_texel_angle(uint side) {
+    return 2.0 * sqrt(2.0) / float(side);
+}
+
+// Points per texel side at which a lobe of alpha is evaluated near its axis (specular.rs
+// `texel_samples`).
+uint rv_texel_samples(float alpha, uint side) {
+    return uint(clamp(ceil(2.0 * rv_texel_angle(side) / alpha), 1.0, 4.0));
+}
+
+// The cosine to the lobe's axis above which a texel is sampled finely (`near_cosine`).
+float rv_near_cosine(float alpha, uint side) {
+    return cos(min(2.0 * rv_texel_angle(side) + 4.0 * alpha, PI));
 }
 
 #endif

@@ -324,9 +324,8 @@ impl GiMethod for RadianceVolumes {
             },
             if s.specular > 0 {
                 format!(
-                    "radiance volumes: indirect specular from a {}² hemisphere map per cache ({} levels)",
+                    "radiance volumes: indirect specular from a {}² hemisphere map per cache",
                     s.specular,
-                    specular::levels(s.specular)
                 )
             } else {
                 "radiance volumes: no indirect specular".into()

@@ -181,8 +181,8 @@ pub struct Passes {
     pub address: [Buffer; 2],
     /// Per cache: its position (w: cascade), then its SH coefficients (rgb), one vec4 each.
     pub caches: Buffer,
-    /// Per cache: its hemisphere map of incoming light, every level (one vec4 a texel; one
-    /// texel in all when indirect specular is off).
+    /// Per cache: its hemisphere map of incoming light (one vec4 a texel; one texel in all
+    /// when indirect specular is off).
     pub specular: Buffer,
     /// The counters, per frame parity.
     pub state: [Buffer; 2],
@@ -205,13 +205,9 @@ pub struct Passes {
 /// Threads of a one-dimensional dispatch along x within the guaranteed 65 535 workgroups of 64.
 const MAX_THREADS_X: u32 = 65_535 * 64;
 
-/// Texels of one cache's specular map, every level (0 when off).
+/// Texels of one cache's specular map (0 when off).
 pub fn specular_texels(side: u32) -> u32 {
-    if side == 0 {
-        0
-    } else {
-        super::specular::texels_per_cache(side)
-    }
+    side * side
 }
 
 /// vec4s per cache: its position and its coefficients.
