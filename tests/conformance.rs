@@ -107,6 +107,7 @@ const SCENES: &[&str] = &[
     "four-boxes-4",
     "lightwave-boxes",
     "atrium:1",
+    "cornell-glossy",
 ];
 
 #[test]

@@ -47,7 +47,10 @@ fn write_obj_toml(dir: &Path) -> PathBuf {
         obj += &format!("f {}\n", c.join(" "));
     }
     std::fs::write(dir.join("scene.obj"), obj).unwrap();
-    let mtl = "newmtl floor\nKd 1 0.9 0.8\nmap_Kd texture.png\nnewmtl block\nKd 0.6 0.3 0.2\n";
+    // Dielectrics (metallic 0, roughness 1 by default): a glossy lobe of 0.04, lowered where
+    // albedo + lobe would pass 1, and roughness 1 (Ns 0).
+    let mtl = "newmtl floor\nKd 1 0.9 0.8\nKs 0 0.04 0.04\nNs 0\nmap_Kd texture.png\n\
+               newmtl block\nKd 0.6 0.3 0.2\nKs 0.04 0.04 0.04\nNs 0\n";
     std::fs::write(dir.join("scene.mtl"), mtl).unwrap();
     let (cos_outer, cos_inner) = (f64::from(OUTER).cos(), f64::from(INNER).cos());
     let solid_angle =

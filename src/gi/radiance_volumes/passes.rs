@@ -257,7 +257,7 @@ impl Passes {
         check_buffer(gpu, "the cache buffer", cache_bytes)?;
         let specular_bytes =
             u64::from(settings.capacity) * u64::from(specular_texels(settings.specular)) * 16;
-        check_buffer(gpu, "the specular maps", specular_bytes)?;
+        check_buffer(gpu, "the specular map buffer", specular_bytes)?;
         let first_side = first_cascade_side(scene, settings);
         let state_bytes = std::mem::size_of::<RvState>() as u64;
         let state_buffer = |name| {

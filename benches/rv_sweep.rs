@@ -1,0 +1,159 @@
+//! Seed 001's resolution-dependence sweeps (spec 001 §6) regenerated for `radiance-volumes`
+//! (issue #16, item 6): caches held, GPU memory and per-pass time against screen resolution,
+//! cascade count and voxel resolution, on the Cornell box and `atrium`, each configuration
+//! otherwise at the method's defaults, indirect light only.
+//!
+//! cargo bench --bench rv_sweep [-- OUT_DIR]   (the markdown table to stdout, as
+//! docs/radiance-volumes.md holds it; one plot per sweep, rv-sweep-*.png, in OUT_DIR,
+//! docs/images by default)
+
+mod common;
+
+use vkgi::gi::radiance_volumes::RadianceVolumes;
+use vkgi::gi::registry::{self, Setup};
+use vkgi::gpu::{Gpu, GpuOptions};
+use vkgi::metrics::plot::{Series, write_plot};
+use vkgi::render::runner::run_frames;
+use vkgi::render::{Frame, FrameOptions};
+use vkgi::scene::Scene;
+
+/// Frames run before the measured ones (the defaults settle in 4; the counters arrive a frame
+/// late), and frames measured.
+const WARMUP: u32 = 4;
+const MEASURED: u32 = 3;
+
+/// The passes the table lists, by name.
+const PASSES: [&str; 3] = ["rv allocate", "rv light", "rv apply"];
+
+/// One measured configuration.
+struct Point {
+    caches: u32,
+    memory_mib: f64,
+    /// Median ms of each of [`PASSES`], then of the frame.
+    ms: [f64; 4],
+}
+
+fn measure(
+    gpu: &Gpu,
+    scene: &Scene,
+    size: (u32, u32),
+    settings: &[(&str, String)],
+) -> anyhow::Result<Point> {
+    let entry = registry::lookup("radiance-volumes")?.expect("radiance-volumes is registered");
+    let overrides: Vec<(String, String)> = settings
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.clone()))
+        .collect();
+    let mut rv = RadianceVolumes::new(&Setup::new(gpu, scene), &entry.settings(&overrides)?)?;
+    let options = FrameOptions {
+        width: size.0,
+        height: size.1,
+        indirect_only: true,
+        ..FrameOptions::default()
+    };
+    let mut frame = Frame::new(gpu, scene, options)?;
+    let ring = run_frames(gpu, &mut frame, Some(&mut rv), WARMUP, MEASURED)?;
+    let report = ring.profiler.report();
+    let median = |name: &str| {
+        report
+            .passes
+            .iter()
+            .filter(|p| p.name == name)
+            .map(|p| p.median_ns)
+            .sum::<f64>()
+            / 1e6
+    };
+    let frame_ms = report.frame.as_ref().map_or(f64::NAN, |f| f.median_ns / 1e6);
+    let memory: u64 = rv.passes.memory().iter().map(|(_, bytes)| bytes).sum();
+    Ok(Point {
+        caches: rv.state().held(rv.settings.capacity),
+        memory_mib: memory as f64 / f64::from(1u32 << 20),
+        ms: [median(PASSES[0]), median(PASSES[1]), median(PASSES[2]), frame_ms],
+    })
+}
+
+/// A sweep: its name, the x axis's label, and per point its x value, size and settings.
+struct Sweep {
+    name: &'static str,
+    axis: &'static str,
+    points: Vec<(f64, (u32, u32), Vec<(&'static str, String)>)>,
+}
+
+fn sweeps() -> Vec<Sweep> {
+    let small = (160, 120);
+    vec![
+        Sweep {
+            name: "screen",
+            axis: "pixels",
+            points: [(160, 120), (320, 240), (640, 480)]
+                .map(|(w, h)| (f64::from(w * h), (w, h), vec![]))
+                .to_vec(),
+        },
+        Sweep {
+            name: "cascades",
+            axis: "cascades",
+            points: (1..=4)
+                .map(|c| (f64::from(c), small, vec![("cascades", c.to_string())]))
+                .collect(),
+        },
+        Sweep {
+            name: "voxels",
+            axis: "voxels per side",
+            points: [32, 64, 128, 256]
+                .map(|v| (f64::from(v), small, vec![("voxels", v.to_string())]))
+                .to_vec(),
+        },
+    ]
+}
+
+fn main() -> anyhow::Result<()> {
+    let out = common::out_dir()?;
+    let gpu = Gpu::new(&GpuOptions::default())?;
+    println!(
+        "| scene | sweep | value | caches | memory MiB | {} ms | frame ms |",
+        PASSES.join(" ms | ")
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let scenes = ["cornell", "atrium"];
+    let mut plots: Vec<(&str, &str, Vec<Series>)> = Vec::new();
+    for sweep in sweeps() {
+        let mut series = Vec::new();
+        for (colour, name) in scenes.iter().enumerate() {
+            let scene = Scene::load(name)?;
+            let mut caches = Vec::new();
+            let mut memory = Vec::new();
+            let mut light = Vec::new();
+            for (x, size, settings) in &sweep.points {
+                let p = measure(&gpu, &scene, *size, settings)?;
+                let value = if sweep.name == "screen" {
+                    format!("{}x{}", size.0, size.1)
+                } else {
+                    format!("{x}")
+                };
+                println!(
+                    "| {name} | {} | {value} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} |",
+                    sweep.name, p.caches, p.memory_mib, p.ms[0], p.ms[1], p.ms[2], p.ms[3]
+                );
+                caches.push((*x, f64::from(p.caches)));
+                memory.push((*x, p.memory_mib));
+                light.push((*x, p.ms[1]));
+            }
+            series.push(Series::line(&format!("{name}: caches"), colour, caches));
+            series.push(Series::line(&format!("{name}: memory MiB"), colour + 2, memory));
+            series.push(Series::line(&format!("{name}: rv light ms"), colour + 4, light));
+        }
+        plots.push((sweep.name, sweep.axis, series));
+    }
+    for (name, axis, series) in plots {
+        let path = out.join(format!("rv-sweep-{name}.png"));
+        write_plot(
+            &path,
+            &format!("radiance-volumes: caches, memory and light-pass time against {axis}"),
+            axis,
+            "caches / MiB / ms",
+            series,
+        )?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
