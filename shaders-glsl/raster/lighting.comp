@@ -53,6 +53,7 @@ void main() {
         irradiance += e * (cos_theta * visibility);
         if (glossy) reflected += e * visibility * glossy_cos(specular.rgb, specular.a, n, to_light, to_eye);
     }
-    radiance += albedo * INV_PI * irradiance + reflected;
+    radiance += albedo * INV_PI * irradiance;
+    if (glossy) radiance += reflected;
     imageStore(hdr_out, pixel, vec4(radiance, 1.0));
 }

@@ -216,6 +216,9 @@ void main() {
                 float cos_n = dot(ns, next);
                 if (cos_n <= 0.0) break;
                 bounce_pdf = (1.0 - glossy) * cos_n * INV_PI + glossy * glossy_pdf(roughness, ns, next, view);
+                // A normal facing away from the view (shading normals) can be drawn where the
+                // density is 0 when the lobe is all there is.
+                if (bounce_pdf <= 0.0) break;
                 throughput *= (albedo * INV_PI * cos_n + glossy_cos(specular, roughness, ns, next, view)) / bounce_pdf;
             } else {
                 bounce_pdf = dot(ns, next) * INV_PI;

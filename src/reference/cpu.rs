@@ -271,6 +271,11 @@ fn pixel(
                 }
                 bounce_pdf = (1.0 - glossy) * cos_n * std::f32::consts::FRAC_1_PI
                     + glossy * brdf::glossy_pdf(roughness, ns, next, view);
+                // A normal facing away from the view (shading normals) can be drawn where the
+                // density is 0 when the lobe is all there is.
+                if bounce_pdf <= 0.0 {
+                    break;
+                }
                 throughput *= (albedo * std::f32::consts::FRAC_1_PI * cos_n
                     + brdf::glossy_cos(specular, roughness, ns, next, view))
                     / bounce_pdf;

@@ -11,7 +11,8 @@ use crate::scene::{Camera, Scene};
 /// Largest image side vkgi renders (also bounded by the device's limit).
 pub const MAX_IMAGE_SIDE: u32 = 8192;
 
-/// Formats of the G-buffer's colour attachments: position, normal, albedo, emission.
+/// Formats of the G-buffer's colour attachments: position, normal, albedo, emission, glossy
+/// reflectance and roughness.
 pub const GBUFFER_FORMATS: [vk::Format; 5] = [
     vk::Format::R32G32B32A32_SFLOAT,
     vk::Format::R16G16B16A16_SFLOAT,

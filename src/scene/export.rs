@@ -4,7 +4,8 @@
 //! extension of MTL), the albedo textures as PNG, and a scene file (TOML) with the camera, the
 //! point and spot lights and the dynamic objects' paths. Numbers are written in Rust's shortest round-trip form,
 //! so reading the files back gives the same floats (texture `v` is flipped, as OBJ counts it
-//! up the image, and `1 - (1 - v)` may differ from `v` in its last bit).
+//! up the image, and `1 - (1 - v)` may differ from `v` in its last bit; roughness goes through
+//! the Phong exponent `Ns` and back, within 1e-5).
 
 use std::collections::HashSet;
 use std::fmt::Write;

@@ -346,6 +346,12 @@ impl Reader<'_> {
         if material.alpha_mode() != gltf::material::AlphaMode::Opaque {
             self.warn("alpha blending and masking are ignored (surfaces are opaque)".into());
         }
+        if texture.is_some() && pbr.metallic_factor() > 0.0 {
+            self.warn(
+                "a base-colour texture colours only the diffuse part of a metallic material (its glossy lobe takes the factor)"
+                    .into(),
+            );
+        }
         let albedo_texture = match texture {
             Some(info) => {
                 let sampler = info.texture().sampler();

@@ -30,8 +30,9 @@ pub use texture::Texture;
 
 use crate::error::InputError;
 
-/// A Lambertian material: diffuse albedo in [0, 1] (times its texture, if any) and emitted
-/// radiance (W/(m²·sr)), emitted from the front face (by winding) only, unless `two_sided`.
+/// A material: diffuse albedo in [0, 1] (times its texture, if any), an optional glossy lobe
+/// ([`brdf`]) and emitted radiance (W/(m²·sr)), emitted from the front face (by winding) only,
+/// unless `two_sided`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     pub name: String,
@@ -42,7 +43,8 @@ pub struct Material {
     /// Multiplies `albedo`, sampled at the surface's texture coordinates (shared between
     /// materials that use the same image).
     pub albedo_texture: Option<Arc<Texture>>,
-    /// Reflectance of the glossy lobe (zero: Lambertian only); see [`brdf`].
+    /// Reflectance of the glossy lobe (zero: Lambertian only; albedo + specular ≤ 1 per
+    /// channel); see [`brdf`].
     pub specular: Vec3,
     /// Perceptual roughness of the glossy lobe, in [`brdf::MIN_ROUGHNESS`, 1].
     pub roughness: f32,
@@ -63,13 +65,22 @@ impl Material {
     }
 
     /// This material with a glossy lobe of reflectance `specular` and `roughness` (clamped to
-    /// the range [`brdf`] renders).
+    /// the range [`brdf`] renders; NaN gives 1). [`Scene::new`] rejects a reflectance that is
+    /// negative, not finite, or more than 1 with the albedo.
     pub fn with_gloss(self, specular: Vec3, roughness: f32) -> Material {
+        let roughness = if roughness.is_nan() { 1.0 } else { roughness };
         Material {
             specular,
             roughness: roughness.clamp(brdf::MIN_ROUGHNESS, 1.0),
             ..self
         }
+    }
+
+    /// Whether the glossy lobe is more than a rough dielectric's 4%, the lobe glTF gives every
+    /// non-metal (what `radiance-volumes --specular auto` looks for).
+    pub fn is_visibly_glossy(&self) -> bool {
+        let most = self.specular.max_element();
+        most > 0.04 + 1e-6 || (most > 0.0 && self.roughness < 0.9)
     }
 
     /// The albedo at texture coordinates `uv`.
@@ -253,6 +264,17 @@ impl Scene {
                 return Err(InputError::new(format!(
                     "scene '{name}': material '{}' needs an albedo in [0, 1] and an emission in [0, {MAX_POWER:e}] per channel (it has {} and {})",
                     m.name, m.albedo, m.emission
+                )));
+            }
+            let reflects = m.albedo + m.specular;
+            let gloss_ok = m.specular.is_finite()
+                && m.specular.min_element() >= 0.0
+                && reflects.max_element() <= 1.0 + 1e-6
+                && (brdf::MIN_ROUGHNESS..=1.0).contains(&m.roughness);
+            if !gloss_ok {
+                return Err(InputError::new(format!(
+                    "scene '{name}': material '{}' needs a glossy reflectance >= 0 with albedo + reflectance <= 1 per channel and a roughness in [{}, 1] (it has {}, albedo {}, roughness {})",
+                    m.name, brdf::MIN_ROUGHNESS, m.specular, m.albedo, m.roughness
                 )));
             }
         }

@@ -4,8 +4,8 @@
 // first, blended with the next cascade near a decision box's face, and added to the view's HDR
 // image as albedo / pi · E. Corners without a cache are counted (the allocation invariant says
 // none are); corners refused for a full cache buffer are left out and the weights renormalised.
-// Glossy pixels (indirect specular on) also blend the corner caches' hemisphere maps with the
-// same weights and sum them under their GGX lobe, in the frame of the pixel toward the eye:
+// Glossy pixels (indirect specular on) also sum the corner caches' hemisphere maps, with the
+// same weights, under their GGX lobe, each map in its own cache's frame:
 // specular · G1(n·v) / (4 n·v) · Σ_k T_k ⟨D(n·h) G1(n·l(h))⟩_k ΔΩ (specular.rs explains it).
 #include "common/math.glsl"
 #include "common/brdf.glsl"
@@ -93,50 +93,58 @@ vec3 interpolate(uint cascade, vec3 p, vec3 n, bool maps, float share, inout uin
             map_count += 1u;
         }
     }
-    for (uint i = first; i < map_count; ++i) map_weight[i] *= share / weights;
+    if (weights > 0.0) {
+        for (uint i = first; i < map_count; ++i) map_weight[i] *= share / weights;
+    } else {
+        map_count = first;
+    }
     return weights > 0.0 ? sum / weights : vec3(0.0);
 }
 
-// D(n·h) G1(n·l(h)) for the lobe of width² a2 around local n, l(h) reflecting the eye (local
-// z); 0 where h or l is below the surface.
-float lobe_weight(vec3 n, vec3 h, float a2) {
+// D(n·h) G1(n·l(h)) for D of width² d2 and shadowing of width² a2 around local n, l(h)
+// reflecting the eye (local z); 0 where h or l is below the surface.
+float lobe_weight(vec3 n, vec3 h, float d2, float a2) {
     float n_h = dot(n, h);
     float n_l = dot(n, h * (2.0 * h.z) - vec3(0.0, 0.0, 1.0));
-    return n_h > 0.0 && n_l > 0.0 ? ggx_d(n_h, a2) * smith_g1(n_l, a2) : 0.0;
+    return n_h > 0.0 && n_l > 0.0 ? ggx_d(n_h, d2) * smith_g1(n_l, a2) : 0.0;
 }
 
-// The blended maps under the GGX lobe of width alpha around the local normal n, texel by
-// texel, near a narrow lobe's axis at several points a texel (specular.rs `under_lobe`).
-vec3 under_lobe(vec3 n, float alpha) {
+// The corner caches' maps, weighted, under the GGX lobe of width alpha around the world normal
+// n, each map in its own cache's frame, texel by texel; near a narrow lobe's axis at several
+// points a texel (specular.rs `under_lobe`).
+vec3 under_lobe(vec3 n_world, float alpha) {
     uint side = pc.specular_side;
     float a2 = alpha * alpha;
-    uint samples = rv_texel_samples(alpha, side);
-    float near = rv_near_cosine(alpha, side);
-    float texel = 2.0 * PI / float(side * side);
+    float d_alpha = rv_sampled_alpha(alpha, side);
+    float d2 = d_alpha * d_alpha;
+    uint samples = rv_texel_samples(d_alpha, side);
+    float near = rv_near_cosine(d_alpha, side);
     vec3 sum = vec3(0.0);
-    for (uint k = 0u; k < side * side; ++k) {
-        vec3 centre = rv_texel_centre(k, side);
-        float w = 0.0;
-        if (samples > 1u && dot(n, centre) > near) {
-            vec2 corner = vec2(k % side, k / side);
-            for (uint j = 0u; j < samples; ++j) {
-                for (uint i = 0u; i < samples; ++i) {
-                    vec2 uv = (corner + (vec2(i, j) + 0.5) / float(samples)) / float(side);
-                    w += lobe_weight(n, rv_hemisphere_unmap(uv), a2);
+    for (uint i = 0u; i < map_count; ++i) {
+        uint cache = map_cache[i];
+        vec3 to_eye = pc.eye_side.xyz - caches[cache * pc.stride].xyz;
+        vec3 n = rv_local(n_world, dot(to_eye, to_eye) > 0.0 ? normalize(to_eye) : vec3(0.0, 0.0, 1.0));
+        vec3 part = vec3(0.0);
+        for (uint k = 0u; k < side * side; ++k) {
+            vec3 centre = rv_texel_centre(k, side);
+            float w = 0.0;
+            if (samples > 1u && dot(n, centre) > near) {
+                vec2 corner = vec2(k % side, k / side);
+                for (uint y = 0u; y < samples; ++y) {
+                    for (uint x = 0u; x < samples; ++x) {
+                        vec2 uv = (corner + (vec2(x, y) + 0.5) / float(samples)) / float(side);
+                        w += lobe_weight(n, rv_hemisphere_unmap(uv), d2, a2);
+                    }
                 }
+                w /= float(samples * samples);
+            } else {
+                w = lobe_weight(n, centre, d2, a2);
             }
-            w /= float(samples * samples);
-        } else {
-            w = lobe_weight(n, centre, a2);
+            if (w > 0.0) part += w * specular[cache * pc.specular_texels + k].rgb;
         }
-        if (w == 0.0) continue;
-        vec3 t = vec3(0.0);
-        for (uint i = 0u; i < map_count; ++i) {
-            t += map_weight[i] * specular[map_cache[i] * pc.specular_texels + k].rgb;
-        }
-        sum += t * (w * texel);
+        sum += map_weight[i] * part;
     }
-    return sum;
+    return sum * (2.0 * PI / float(side * side));
 }
 
 void main() {
@@ -169,7 +177,7 @@ void main() {
     if (maps) {
         float alpha = gloss.a * gloss.a;
         float g1 = smith_g1(n_v, alpha * alpha);
-        radiance += gloss.rgb * (g1 / (4.0 * n_v)) * under_lobe(rv_local(n, v), alpha);
+        radiance += gloss.rgb * (g1 / (4.0 * n_v)) * under_lobe(n, alpha);
     }
     imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(radiance, 0.0));
 }

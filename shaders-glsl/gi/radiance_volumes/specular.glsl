@@ -10,6 +10,7 @@
 // Where unit h (h.z >= 0) falls in the unit square.
 vec2 rv_hemisphere_map(vec3 h) {
     float r = 0.5 * sqrt(max(1.0 - min(h.z, 1.0), 0.0));
+    if (r == 0.0) return vec2(0.5);  // atan(0, 0) is undefined in GLSL
     float phi = atan(h.y, h.x) * 4.0 / PI;
     if (phi < -1.0) phi += 8.0;
     vec2 square;
@@ -46,7 +47,7 @@ vec3 rv_texel_centre(uint k, uint side) {
     return rv_hemisphere_unmap((vec2(k % side, k / side) + 0.5) / float(side));
 }
 
-// The texel holding the half vector of light from local direction l (RV_NONE for
+// The texel holding the half vector of light from local direction l (0xFFFFFFFF for
 // light from straight behind).
 uint rv_specular_texel(vec3 l, uint side) {
     vec3 sum = l + vec3(0.0, 0.0, 1.0);
@@ -59,6 +60,11 @@ uint rv_specular_texel(vec3 l, uint side) {
 // A texel's angular size near the map's centre, in radians of half-vector angle.
 float rv_texel_angle(uint side) {
     return 2.0 * sqrt(2.0) / float(side);
+}
+
+// The width D is evaluated with (specular.rs `sampled_alpha`): at least a quarter texel.
+float rv_sampled_alpha(float alpha, uint side) {
+    return max(alpha, rv_texel_angle(side) / 4.0);
 }
 
 // Points per texel side at which a lobe of alpha is evaluated near its axis (specular.rs

@@ -109,7 +109,7 @@ const SETTINGS: &[Setting] = &[
         "specular",
         Kind::Choice(&["auto", "off", "4", "8", "16", "32"]),
         "auto",
-        "Side of each cache's hemisphere map of incoming light, which glossy surfaces reflect (spec 001 §4.7): 4 to 32 texels, off, or auto (8 where the scene has a glossy material, else off)",
+        "Side of each cache's hemisphere map of incoming light, which glossy surfaces reflect (spec 001 §4.7): 4 to 32 texels, off, or auto (8 where a material is glossier than a rough 4% dielectric, else off)",
     ),
     Setting::new(
         "voxel-fade",
@@ -203,7 +203,7 @@ impl VolumeSettings {
             voxel_fade: settings.u32("voxel-fade")?,
             specular: match settings.text("specular")? {
                 "off" => 0,
-                "auto" if scene.materials.iter().any(|m| m.specular != glam::Vec3::ZERO) => {
+                "auto" if scene.materials.iter().any(|m| m.is_visibly_glossy()) => {
                     AUTO_SPECULAR_SIDE
                 }
                 "auto" => 0,

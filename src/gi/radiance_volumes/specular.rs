@@ -16,8 +16,9 @@
 //!
 //! ⟨⟩_k the weight at texel k's centre, or its mean over a few points of the texel where a
 //! narrow lobe's core falls (see `under_lobe`). Every texel is weighted, so GGX's long tails see
-//! light beside the mirror direction. The approximations beyond the texels' size: light is
-//! constant within a texel, and each cache's map is read in the pixel's frame.
+//! light beside the mirror direction. Each cache's map is read in its own frame, with the
+//! pixel's normal. The approximations beyond the texels' size: light is constant within a
+//! texel, and a cache's eye direction stands for the pixel's.
 //!
 //! The parameterisation is the concentric square map of the Lambert equal-area disc: every
 //! texel of a P×P map subtends exactly 2π/P² sr.
@@ -30,6 +31,9 @@ use crate::scene::brdf;
 /// Where unit `h` (h.z ≥ 0) falls in the unit square.
 pub fn map(h: DVec3) -> (f64, f64) {
     let r = 0.5 * (1.0 - h.z.min(1.0)).max(0.0).sqrt();
+    if r == 0.0 {
+        return (0.5, 0.5);
+    }
     let mut phi = h.y.atan2(h.x) * 4.0 / std::f64::consts::PI;
     if phi < -1.0 {
         phi += 8.0;
@@ -119,13 +123,15 @@ impl HemisphereMap {
     pub fn under_lobe(&self, n: DVec3, alpha: f64) -> DVec3 {
         let a2 = (alpha * alpha) as f32;
         let side = self.side;
-        let samples = texel_samples(alpha, side);
-        let near = near_cosine(alpha, side);
+        let d_alpha = sampled_alpha(alpha, side);
+        let d2 = (d_alpha * d_alpha) as f32;
+        let samples = texel_samples(d_alpha, side);
+        let near = near_cosine(d_alpha, side);
         let texel = 2.0 * std::f64::consts::PI / f64::from(side * side);
         let weight = |h: DVec3| {
             let (n_h, n_l) = (n.dot(h), n.dot(h * (2.0 * h.z) - DVec3::Z));
             if n_h > 0.0 && n_l > 0.0 {
-                f64::from(brdf::ggx_d(n_h as f32, a2) * brdf::smith_g1(n_l as f32, a2))
+                f64::from(brdf::ggx_d(n_h as f32, d2) * brdf::smith_g1(n_l as f32, a2))
             } else {
                 0.0
             }
@@ -159,6 +165,13 @@ fn texel_angle(side: u32) -> f64 {
     2.0 * std::f64::consts::SQRT_2 / f64::from(side)
 }
 
+/// The width D is evaluated with: the lobe's own, or, for a lobe narrower than a quarter
+/// texel (roughness below 0.3 at 8²), a quarter texel, so the sub-sampled points cannot miss
+/// its core. Shadowing keeps the lobe's own width.
+pub fn sampled_alpha(alpha: f64, side: u32) -> f64 {
+    alpha.max(texel_angle(side) / 4.0)
+}
+
 /// Points per texel side at which [`HemisphereMap::under_lobe`] evaluates a lobe of `alpha`
 /// near its axis: about two per α, at most 4 (1: the centre alone).
 pub fn texel_samples(alpha: f64, side: u32) -> u32 {
@@ -179,7 +192,7 @@ pub fn texel_centre(k: u32, side: u32) -> DVec3 {
     unmap((f64::from(k % side) + 0.5) / s, (f64::from(k / side) + 0.5) / s)
 }
 
-/// The level-0 texel holding the half vector of light from local direction `l`; None for light
+/// The texel holding the half vector of light from local direction `l`; None for light
 /// from straight behind (no half vector).
 pub fn texel_of(l: DVec3, side: u32) -> Option<usize> {
     let sum = l + DVec3::Z;
@@ -195,11 +208,10 @@ pub fn texel_of(l: DVec3, side: u32) -> Option<usize> {
     Some((y * side + x) as usize)
 }
 
-/// Where the lookup reads a map for a surface of normal `n` at `p` seen from `eye` (the normal
-/// in the frame of the pixel, shared by its 8 corner caches), and the factor G1(n·v) / (4 n·v)
-/// that turns [`HemisphereMap::under_lobe`] into reflected radiance per unit specular
-/// reflectance; None where the surface faces away from the eye.
-pub fn lookup_at(p: DVec3, n: DVec3, eye: DVec3, roughness: f64) -> Option<(DVec3, f64)> {
+/// The factor G1(n·v) / (4 n·v) that turns [`HemisphereMap::under_lobe`] into reflected
+/// radiance per unit specular reflectance, for a surface of normal `n` at `p` seen from `eye`;
+/// None where the surface faces away from the eye.
+pub fn lookup_factor(p: DVec3, n: DVec3, eye: DVec3, roughness: f64) -> Option<f64> {
     let v = (eye - p).normalize_or(DVec3::Z);
     let n_v = n.dot(v);
     if n_v <= 0.0 {
@@ -207,7 +219,14 @@ pub fn lookup_at(p: DVec3, n: DVec3, eye: DVec3, roughness: f64) -> Option<(DVec
     }
     let alpha = roughness * roughness;
     let g1 = f64::from(brdf::smith_g1(n_v as f32, (alpha * alpha) as f32));
-    Some((local(n, frame(v)), g1 / (4.0 * n_v)))
+    Some(g1 / (4.0 * n_v))
+}
+
+/// A world normal in the frame of the map of a cache at `x` (every map is read in its own
+/// cache's frame: no field of frames over the sphere is continuous, so a pixel's own frame
+/// could be turned against its corner caches' frames).
+pub fn cache_normal(n: DVec3, x: DVec3, eye: DVec3) -> DVec3 {
+    local(n, frame((eye - x).normalize_or(DVec3::Z)))
 }
 
 /// The glossy light every VAL sends off a surface at `x` (normal `n`, reflectance `specular`,
@@ -328,7 +347,9 @@ mod tests {
             }
         }
         let eye = DVec3::new(0.0, 0.0, 5.0);
-        for roughness in [0.35, 0.6, 1.0] {
+        // Roughness 0.1 (α = 0.01) is far narrower than a texel: its D is evaluated a quarter
+        // texel wide.
+        for roughness in [0.1, 0.35, 0.6, 1.0] {
             // The lobe's directional albedo at normal incidence: the exact answer.
             let albedo: f64 = vals
                 .iter()
@@ -341,7 +362,8 @@ mod tests {
                 .sum();
             for side in [4, 8, 16] {
                 let map = HemisphereMap::fill(&vals, (DVec3::ZERO, eye), side, |_| 1.0);
-                let (n, factor) = lookup_at(DVec3::ZERO, DVec3::Z, eye, roughness).unwrap();
+                let factor = lookup_factor(DVec3::ZERO, DVec3::Z, eye, roughness).unwrap();
+                let n = cache_normal(DVec3::Z, DVec3::ZERO, eye);
                 let reflected = map.under_lobe(n, roughness * roughness).x * factor;
                 assert!(
                     (reflected / albedo - 1.0).abs() < 0.12,
@@ -381,7 +403,8 @@ mod tests {
                 let brute = gather(&vals, (x, n, eye), DVec3::ONE, roughness).x;
                 let error = |side: u32| {
                     let map = HemisphereMap::fill(&vals, (x, eye), side, |_| 1.0);
-                    let (local_n, factor) = lookup_at(x, n, eye, roughness).unwrap();
+                    let factor = lookup_factor(x, n, eye, roughness).unwrap();
+                    let local_n = cache_normal(n, x, eye);
                     (map.under_lobe(local_n, roughness * roughness).x * factor / brute - 1.0).abs()
                 };
                 let errors = [4, 16, 64].map(error);
