@@ -75,7 +75,7 @@ uint rv_texel_samples(float alpha, uint side) {
 
 // The cosine to the lobe's axis above which a texel is sampled finely (`near_cosine`).
 float rv_near_cosine(float alpha, uint side) {
-    return cos(min(2.0 * rv_texel_angle(side) + 4.0 * alpha, PI));
+    return cos(min(rv_texel_angle(side) + 2.0 * alpha, PI));
 }
 
 #endif

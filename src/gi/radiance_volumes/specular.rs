@@ -179,9 +179,9 @@ pub fn texel_samples(alpha: f64, side: u32) -> u32 {
 }
 
 /// The cosine between the lobe's axis and a texel centre above which the texel is sampled
-/// finely: within 2 texels and 4 α of the axis.
+/// finely: within a texel and 2 α of the axis.
 pub fn near_cosine(alpha: f64, side: u32) -> f64 {
-    (2.0 * texel_angle(side) + 4.0 * alpha)
+    (texel_angle(side) + 2.0 * alpha)
         .min(std::f64::consts::PI)
         .cos()
 }
