@@ -63,20 +63,32 @@ fn measure(
             .sum::<f64>()
             / 1e6
     };
-    let frame_ms = report.frame.as_ref().map_or(f64::NAN, |f| f.median_ns / 1e6);
+    let frame_ms = report
+        .frame
+        .as_ref()
+        .map_or(f64::NAN, |f| f.median_ns / 1e6);
     let memory: u64 = rv.passes.memory().iter().map(|(_, bytes)| bytes).sum();
     Ok(Point {
         caches: rv.state().held(rv.settings.capacity),
         memory_mib: memory as f64 / f64::from(1u32 << 20),
-        ms: [median(PASSES[0]), median(PASSES[1]), median(PASSES[2]), frame_ms],
+        ms: [
+            median(PASSES[0]),
+            median(PASSES[1]),
+            median(PASSES[2]),
+            frame_ms,
+        ],
     })
 }
 
-/// A sweep: its name, the x axis's label, and per point its x value, size and settings.
+/// One point of a sweep: its x value, the image size and the settings that differ from the
+/// defaults.
+type SweepPoint = (f64, (u32, u32), Vec<(&'static str, String)>);
+
+/// A sweep: its name, the x axis's label, and its points.
 struct Sweep {
     name: &'static str,
     axis: &'static str,
-    points: Vec<(f64, (u32, u32), Vec<(&'static str, String)>)>,
+    points: Vec<SweepPoint>,
 }
 
 fn sweeps() -> Vec<Sweep> {
@@ -139,8 +151,16 @@ fn main() -> anyhow::Result<()> {
                 light.push((*x, p.ms[1]));
             }
             series.push(Series::line(&format!("{name}: caches"), colour, caches));
-            series.push(Series::line(&format!("{name}: memory MiB"), colour + 2, memory));
-            series.push(Series::line(&format!("{name}: rv light ms"), colour + 4, light));
+            series.push(Series::line(
+                &format!("{name}: memory MiB"),
+                colour + 2,
+                memory,
+            ));
+            series.push(Series::line(
+                &format!("{name}: rv light ms"),
+                colour + 4,
+                light,
+            ));
         }
         plots.push((sweep.name, sweep.axis, series));
     }

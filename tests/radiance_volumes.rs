@@ -189,14 +189,20 @@ fn specular_maps_and_their_glossy_lookup_match_the_f64_mirror() {
         // Measured: 2.74 2.64 2.61 (side 4), 2.66 2.29 2.25 (8), 2.66 2.23 2.17 (16). The walls
         // sit in the coarsest cascade of this small view, whose caches are 4 first-cascade
         // cells from them; the error is mostly that parallax (docs/radiance-volumes.md).
-        assert!(errors[1] < errors[0] && errors[2] <= errors[1] * 1.01, "side {side}: {errors:?}");
+        assert!(
+            errors[1] < errors[0] && errors[2] <= errors[1] * 1.01,
+            "side {side}: {errors:?}"
+        );
     }
     let front = VolumeSettings {
         specular: 8,
         front_corners: true,
         ..settings(Bands::L1, 32, 16384)
     };
-    eprintln!("front corners: {:?}", verify_against_f64(&gpu, &scene, front));
+    eprintln!(
+        "front corners: {:?}",
+        verify_against_f64(&gpu, &scene, front)
+    );
     common::assert_no_validation_errors(&gpu);
 }
 
@@ -223,7 +229,11 @@ fn read_maps(gpu: &Gpu, rv: &RadianceVolumes, held: usize) -> Vec<HemisphereMap>
 fn assert_maps_match(got: &[HemisphereMap], expected: &[HemisphereMap]) {
     let (mut off, mut total) = (0, 0);
     for (k, (g, e)) in got.iter().zip(expected).enumerate() {
-        let scale = e.texels.iter().fold(0.0f64, |m, t| m.max(t.max_element())).max(1e-12);
+        let scale = e
+            .texels
+            .iter()
+            .fold(0.0f64, |m, t| m.max(t.max_element()))
+            .max(1e-12);
         let sum = |m: &HemisphereMap| m.texels.iter().sum::<DVec3>();
         let count = e.texels.len() as f64;
         assert_close_vec(sum(g), sum(e), scale * count, 1e-4, &format!("map {k} sum"));
@@ -419,10 +429,17 @@ fn verify_against_f64(gpu: &Gpu, scene: &Scene, settings: VolumeSettings) -> (f6
         pixels += 1;
     }
     if !maps.is_empty() {
-        assert!(glossy_pixels > pixels / 4, "{glossy_pixels} of {pixels} pixels glossy");
+        assert!(
+            glossy_pixels > pixels / 4,
+            "{glossy_pixels} of {pixels} pixels glossy"
+        );
     }
-    let relative = |squared: f64, sum: f64| (squared / (3.0 * pixels as f64)).sqrt() / (sum / pixels as f64);
-    (relative(squared, reference_sum), relative(glossy_squared, glossy_sum))
+    let relative =
+        |squared: f64, sum: f64| (squared / (3.0 * pixels as f64)).sqrt() / (sum / pixels as f64);
+    (
+        relative(squared, reference_sum),
+        relative(glossy_squared, glossy_sum),
+    )
 }
 
 #[test]

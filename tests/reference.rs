@@ -80,9 +80,14 @@ fn glossy_directional_albedo(specular: f32, roughness: f32, tilt: f32) -> f64 {
         let theta = 0.5 * (t0 + t1);
         for j in 0..2 * steps {
             let phi = std::f64::consts::PI * (j as f64 + 0.5) / steps as f64;
-            let l = glam::DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+            let l = glam::DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            );
             let area = (t0.cos() - t1.cos()) * std::f64::consts::PI / steps as f64;
-            let f = vkgi::scene::brdf::glossy_cos(Vec3::splat(specular), roughness, n, l.as_vec3(), v);
+            let f =
+                vkgi::scene::brdf::glossy_cos(Vec3::splat(specular), roughness, n, l.as_vec3(), v);
             sum += f64::from(f.x) * area;
         }
     }
@@ -101,7 +106,9 @@ fn a_glossy_white_furnace_reflects_the_lobe_s_directional_albedo() {
         .clone()
         .with_gloss(Vec3::splat(specular), roughness);
     // Faces of the level-2 icosphere are within 12 degrees of the ray from its centre.
-    let albedo = |tilt_deg: f32| f64::from(rho) + glossy_directional_albedo(specular, roughness, tilt_deg.to_radians());
+    let albedo = |tilt_deg: f32| {
+        f64::from(rho) + glossy_directional_albedo(specular, roughness, tilt_deg.to_radians())
+    };
     let (low, high) = (albedo(12.0).min(albedo(0.0)), albedo(12.0).max(albedo(0.0)));
     eprintln!("glossy furnace: one reflection returns {low:.4}..{high:.4} of le");
     let image = trace(&gpu, &scene, &settings(8, 8, 1024, Bounces::Limited(0), 9)).combined();
@@ -114,9 +121,15 @@ fn a_glossy_white_furnace_reflects_the_lobe_s_directional_albedo() {
         .collect();
     let mean = reflected.iter().sum::<f64>() / reflected.len() as f64;
     eprintln!("glossy furnace: mean reflected {mean:.4} of le");
-    assert!(mean > low * 0.997 && mean < high * 1.003, "mean {mean}, expected {low}..{high}");
+    assert!(
+        mean > low * 0.997 && mean < high * 1.003,
+        "mean {mean}, expected {low}..{high}"
+    );
     for r in reflected {
-        assert!(r > low * 0.97 && r < high * 1.03, "reflected {r}, expected {low}..{high}");
+        assert!(
+            r > low * 0.97 && r < high * 1.03,
+            "reflected {r}, expected {low}..{high}"
+        );
     }
     common::assert_no_validation_errors(&gpu);
 }
@@ -362,10 +375,12 @@ fn direct_light_agrees(gpu: &vkgi::gpu::Gpu, scene: &Scene) {
         }
         let e = light.irradiance_at(p, n);
         let to_light = (light.position - p).normalize();
-        let glossy = vkgi::scene::brdf::glossy_cos(m.specular, m.roughness, n, to_light, -dir)
-            * e
+        let glossy = vkgi::scene::brdf::glossy_cos(m.specular, m.roughness, n, to_light, -dir) * e
             / n.dot(to_light).max(1e-6);
-        Some((hit.triangle, (m.albedo * e / std::f32::consts::PI + glossy).length()))
+        Some((
+            hit.triangle,
+            (m.albedo * e / std::f32::consts::PI + glossy).length(),
+        ))
     };
     let (mut compared, mut masked) = (0, 0);
     for y in 0..h {
@@ -418,7 +433,10 @@ fn direct_light_agrees(gpu: &vkgi::gpu::Gpu, scene: &Scene) {
             compared += 1;
         }
     }
-    eprintln!("{}: {compared} pixels compared, {masked} masked as edges", scene.name);
+    eprintln!(
+        "{}: {compared} pixels compared, {masked} masked as edges",
+        scene.name
+    );
     assert!(
         compared > (w * h / 3) as usize,
         "only {compared} pixels compared"

@@ -17,7 +17,10 @@ pub fn alpha(roughness: f32) -> f32 {
 /// The perceptual roughness whose GGX lobe matches a Phong exponent `ns` (the usual
 /// correspondence α² = 2 / (ns + 2)), clamped to the rendered range.
 pub fn roughness_from_phong(ns: f32) -> f32 {
-    (2.0 / (ns.max(0.0) + 2.0)).sqrt().sqrt().clamp(MIN_ROUGHNESS, 1.0)
+    (2.0 / (ns.max(0.0) + 2.0))
+        .sqrt()
+        .sqrt()
+        .clamp(MIN_ROUGHNESS, 1.0)
 }
 
 /// The Phong exponent [`roughness_from_phong`] turns into `roughness`.
@@ -61,7 +64,13 @@ pub fn glossy_pdf(roughness: f32, n: Vec3, l: Vec3, v: Vec3) -> f32 {
 
 /// A direction reflected about a GGX normal drawn by D(h)(n·h) from two uniform numbers
 /// (as `sample_glossy` in brdf.glsl; `basis` is the tangent frame of `n`).
-pub fn sample_glossy(roughness: f32, (t, b, n): (Vec3, Vec3, Vec3), v: Vec3, u1: f32, u2: f32) -> Vec3 {
+pub fn sample_glossy(
+    roughness: f32,
+    (t, b, n): (Vec3, Vec3, Vec3),
+    v: Vec3,
+    u1: f32,
+    u2: f32,
+) -> Vec3 {
     let a2 = alpha(roughness) * alpha(roughness);
     let cos2 = (1.0 - u1) / (1.0 + (a2 - 1.0) * u1);
     let cos_h = cos2.max(0.0).sqrt();
@@ -99,7 +108,11 @@ mod tests {
                 );
                 let phi = std::f64::consts::PI * (j as f64 + 0.5) / steps as f64;
                 let theta = 0.5 * (t0 + t1);
-                let d = glam::DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+                let d = glam::DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
                 let area = (t0.cos() - t1.cos()) * std::f64::consts::PI / steps as f64;
                 out.push((d.as_vec3(), area as f32));
             }
@@ -121,8 +134,14 @@ mod tests {
                 // Sampled normals facing away from v are lost, so the integral is at most 1
                 // (0.68 at roughness 1, 69 degrees); single-scattering GGX loses much of a rough
                 // lobe (0.31 at roughness 1, normal incidence).
-                assert!(pdf <= 1.0 + 2e-3 && pdf > 0.6, "r {roughness} tilt {tilt}: {pdf}");
-                assert!(albedo <= 1.0 + 2e-3 && albedo > 0.25, "r {roughness} tilt {tilt}: {albedo}");
+                assert!(
+                    pdf <= 1.0 + 2e-3 && pdf > 0.6,
+                    "r {roughness} tilt {tilt}: {pdf}"
+                );
+                assert!(
+                    albedo <= 1.0 + 2e-3 && albedo > 0.25,
+                    "r {roughness} tilt {tilt}: {albedo}"
+                );
             }
         }
     }
@@ -156,7 +175,10 @@ mod tests {
             }
         }
         for (c, e) in counts.iter().zip(&expected) {
-            assert!((c - e).abs() < 0.01 + 0.03 * e, "{counts:?} vs {expected:?}");
+            assert!(
+                (c - e).abs() < 0.01 + 0.03 * e,
+                "{counts:?} vs {expected:?}"
+            );
         }
     }
 

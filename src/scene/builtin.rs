@@ -91,7 +91,9 @@ pub fn load(name: &str) -> Result<Option<Scene>, InputError> {
             if let Some(&(_, specular, roughness)) =
                 variant.gloss.iter().find(|(n, _, _)| *n == material.name)
             {
-                *material = material.clone().with_gloss(Vec3::splat(specular), roughness);
+                *material = material
+                    .clone()
+                    .with_gloss(Vec3::splat(specular), roughness);
             }
         }
         return Ok(Some(scene));
@@ -127,7 +129,12 @@ mod tests {
                 assert_eq!(g.specular != Vec3::ZERO, named, "{}", b.name);
                 assert_eq!(b.albedo, g.albedo);
             }
-            assert!(variant.gloss.iter().all(|(n, _, _)| base.materials.iter().any(|m| m.name == *n)));
+            assert!(
+                variant
+                    .gloss
+                    .iter()
+                    .all(|(n, _, _)| base.materials.iter().any(|m| m.name == *n))
+            );
         }
     }
 

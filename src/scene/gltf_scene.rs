@@ -376,7 +376,10 @@ impl Reader<'_> {
                 albedo_texture,
                 ..Material::diffuse(&name, base * (1.0 - metallic))
             }
-            .with_gloss(specular.min(Vec3::ONE - base * (1.0 - metallic)), pbr.roughness_factor()),
+            .with_gloss(
+                specular.min(Vec3::ONE - base * (1.0 - metallic)),
+                pbr.roughness_factor(),
+            ),
         );
         let index = self.materials.len() as u32 - 1;
         if let Some(slot) = material.index().and_then(|i| self.material_of.get_mut(i)) {

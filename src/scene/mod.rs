@@ -1,8 +1,8 @@
 //! Scenes: triangle meshes with Lambertian materials (OBJ + MTL through tobj), punctual lights
 //! and a camera, from a built-in name, a scene file (TOML) or a bare OBJ.
 
-pub mod builtin;
 pub mod brdf;
+pub mod builtin;
 pub mod bvh;
 pub mod camera;
 pub mod dynamic;
@@ -274,7 +274,11 @@ impl Scene {
             if !gloss_ok {
                 return Err(InputError::new(format!(
                     "scene '{name}': material '{}' needs a glossy reflectance >= 0 with albedo + reflectance <= 1 per channel and a roughness in [{}, 1] (it has {}, albedo {}, roughness {})",
-                    m.name, brdf::MIN_ROUGHNESS, m.specular, m.albedo, m.roughness
+                    m.name,
+                    brdf::MIN_ROUGHNESS,
+                    m.specular,
+                    m.albedo,
+                    m.roughness
                 )));
             }
         }

@@ -494,7 +494,10 @@ fn convert_material(file: &str, m: &tobj::Material) -> Result<Material, InputErr
         two_sided,
         ..Material::diffuse(&m.name, albedo)
     }
-    .with_gloss(glossy_reflectance(file, m, albedo)?, roughness_from_phong(m.shininess.unwrap_or(0.0))))
+    .with_gloss(
+        glossy_reflectance(file, m, albedo)?,
+        roughness_from_phong(m.shininess.unwrap_or(0.0)),
+    ))
 }
 
 /// A material's `Ks`, lowered where `Kd + Ks` would reflect more than all light (common in
