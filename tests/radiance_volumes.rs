@@ -10,6 +10,7 @@ use glam::{DVec3, Vec3};
 use vkgi::gi::radiance_volumes::cpu::{self, RsmTexel, Val};
 use vkgi::gi::radiance_volumes::passes::{RvState, specular_texels, stride};
 use vkgi::gi::radiance_volumes::specular::{self, HemisphereMap};
+use vkgi::gi::radiance_volumes::voxelizer::VoxelizerChoice;
 use vkgi::gi::radiance_volumes::{Bands, RadianceVolumes, VolumeSettings, voxels};
 use vkgi::gi::registry::Setup;
 use vkgi::gi::{Follow, GiMethod};
@@ -38,6 +39,7 @@ fn settings(bands: Bands, resolution: u32, capacity: u32) -> VolumeSettings {
         shadow_lod: 2,
         voxel_fade: 3,
         specular: 0,
+        voxelizer: VoxelizerChoice::Compute,
     }
 }
 
@@ -591,6 +593,65 @@ fn verify_shadowed(gpu: &Gpu, scene: &Scene, s: VolumeSettings) {
         caches.len()
     );
     assert!(shadowed > caches.len() / 20, "{shadowed} caches shadowed");
+}
+
+#[test]
+fn the_raster_voxelisation_marks_the_compute_one_where_conservative_and_a_subset_without() {
+    // The raster path keeps the compute pass's exact column test, so with conservative
+    // rasterisation it marks the same voxels; without (lavapipe) the rasteriser reaches only
+    // the columns whose centre a triangle covers: a subset, missing thin slivers.
+    let gpu = &common::gpu();
+    for name in ["cornell-moving", "atrium:1"] {
+        let scene = Scene::load(name).unwrap();
+        let target = |voxelizer| {
+            let s = VolumeSettings {
+                shadows: true,
+                voxelizer,
+                ..settings(Bands::L1, 16, 16384)
+            };
+            let (_, rv) = run(gpu, &scene, s);
+            let raster = rv.passes.voxels.raster.as_ref().map(|r| r.conservative);
+            (read_voxels(gpu, &rv).1, raster)
+        };
+        let (compute, none) = target(VoxelizerChoice::Compute);
+        assert_eq!(none, None);
+        let (raster, conservative) = target(VoxelizerChoice::Raster);
+        let (auto, auto_raster) = target(VoxelizerChoice::Auto);
+        let conservative = conservative.expect("the raster path ran");
+        assert_eq!(
+            auto_raster.is_some(),
+            conservative,
+            "auto follows the device"
+        );
+        assert_eq!(auto, if conservative { &raster } else { &compute }.clone());
+        let marked = compute.iter().filter(|&&m| m == 1).count();
+        let extra = raster
+            .iter()
+            .zip(&compute)
+            .filter(|&(&r, &c)| r == 1 && c == 0)
+            .count();
+        let missed = raster
+            .iter()
+            .zip(&compute)
+            .filter(|&(&r, &c)| r == 0 && c == 1)
+            .count();
+        eprintln!(
+            "{name}: compute marks {marked}, raster misses {missed}, adds {extra} (conservative: {conservative})"
+        );
+        assert_eq!(
+            extra, 0,
+            "{name}: the raster path marked voxels the compute one did not"
+        );
+        if conservative {
+            assert_eq!(missed, 0, "{name}");
+        } else {
+            assert!(
+                missed * 4 < marked,
+                "{name}: raster misses {missed} of {marked}"
+            );
+        }
+    }
+    common::assert_no_validation_errors(gpu);
 }
 
 #[test]

@@ -154,6 +154,11 @@ pub struct DeviceInfo {
     /// Largest single memory allocation the device supports (maxMemoryAllocationSize).
     pub max_memory_allocation_size: u64,
     pub shader_buffer_float32_atomic_add: bool,
+    /// Fragment shaders may write storage buffers (fragmentStoresAndAtomics).
+    pub fragment_stores_and_atomics: bool,
+    /// VK_EXT_conservative_rasterization is enabled: raster pipelines may overestimate
+    /// coverage (every pixel a triangle touches).
+    pub conservative_rasterization: bool,
 }
 
 impl DeviceInfo {
@@ -662,6 +667,10 @@ fn create_device(
         extension_names.push(ash::khr::swapchain::NAME.as_ptr());
     }
     let has_atomic_float = has_ext(ash::ext::shader_atomic_float::NAME);
+    let conservative = has_ext(ash::ext::conservative_rasterization::NAME);
+    if conservative {
+        extension_names.push(ash::ext::conservative_rasterization::NAME.as_ptr());
+    }
     let mut atomic_float_query = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default();
     let mut features13_query = vk::PhysicalDeviceVulkan13Features::default();
     let mut features12_query = vk::PhysicalDeviceVulkan12Features::default();
@@ -783,6 +792,8 @@ fn create_device(
         max_image_array_layers: limits.max_image_array_layers,
         max_memory_allocation_size: maintenance3.max_memory_allocation_size,
         shader_buffer_float32_atomic_add: atomic_add,
+        fragment_stores_and_atomics: base.fragment_stores_and_atomics == vk::TRUE,
+        conservative_rasterization: conservative,
     };
     Ok((device, plan, info))
 }

@@ -25,6 +25,8 @@ pub enum Access {
     ComputeSampled,
     /// Storage-buffer read in the vertex or fragment stage.
     GraphicsRead,
+    /// Storage read and write in the fragment stage (needs fragmentStoresAndAtomics).
+    GraphicsWrite,
     /// Sampled read (texture) in the vertex or fragment stage.
     GraphicsSampled,
     ColorAttachment,
@@ -56,6 +58,11 @@ impl Access {
                 A::SHADER_STORAGE_READ,
                 L::GENERAL,
             ),
+            Access::GraphicsWrite => (
+                S::FRAGMENT_SHADER,
+                A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
+                L::GENERAL,
+            ),
             Access::GraphicsSampled => (
                 S::VERTEX_SHADER | S::FRAGMENT_SHADER,
                 A::SHADER_SAMPLED_READ,
@@ -82,6 +89,7 @@ impl Access {
         matches!(
             self,
             Access::ComputeWrite
+                | Access::GraphicsWrite
                 | Access::ColorAttachment
                 | Access::DepthAttachment
                 | Access::TransferWrite
@@ -555,7 +563,7 @@ impl<'a> Recorder<'a> {
         let (read, write, sampled) = if graphics {
             (
                 Access::GraphicsRead,
-                Access::GraphicsRead,
+                Access::GraphicsWrite,
                 Access::GraphicsSampled,
             )
         } else {
@@ -720,19 +728,6 @@ impl<'a> Recorder<'a> {
     pub fn raster(&mut self, pass: &RasterPass) -> GpuResult<()> {
         let core = &pass.pipeline.core;
         self.check_interface(core, pass.name, pass.bindings, pass.push)?;
-        let writes_storage = pass.bindings.iter().any(|b| {
-            matches!(
-                b,
-                Binding::StorageBuffer { write: true, .. }
-                    | Binding::StorageImage { write: true, .. }
-            )
-        });
-        if writes_storage {
-            return Err(GpuError::Interface {
-                pass: pass.name.to_string(),
-                message: "raster passes write attachments only, not storage resources".into(),
-            });
-        }
         let extent = pass
             .color
             .first()

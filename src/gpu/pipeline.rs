@@ -84,6 +84,9 @@ pub struct RasterPipelineDesc<'a> {
     pub depth_bias: Option<(f32, f32)>,
     /// Add the fragments' outputs to the attachments (one plus one) instead of replacing them.
     pub additive_blend: bool,
+    /// Rasterise every pixel a triangle touches (overestimating conservative rasterisation;
+    /// only on a device with VK_EXT_conservative_rasterization, see `DeviceInfo`).
+    pub conservative: bool,
 }
 
 fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
@@ -327,7 +330,10 @@ impl RasterPipeline {
             Some((c, s)) => (true, c, s),
             None => (false, 0.0, 0.0),
         };
-        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        let mut conservative = vk::PipelineRasterizationConservativeStateCreateInfoEXT::default()
+            .conservative_rasterization_mode(vk::ConservativeRasterizationModeEXT::OVERESTIMATE)
+            .extra_primitive_overestimation_size(0.0);
+        let mut raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(vk::CullModeFlags::NONE)
             .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
@@ -335,6 +341,9 @@ impl RasterPipeline {
             .depth_bias_enable(bias_on)
             .depth_bias_constant_factor(bias_constant)
             .depth_bias_slope_factor(bias_slope);
+        if desc.conservative {
+            raster = raster.push_next(&mut conservative);
+        }
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
         let has_depth = desc.depth_format.is_some();

@@ -63,6 +63,7 @@ impl ScenePasses {
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: Some((1.25, 1.75)),
                     additive_blend: false,
+                    conservative: false,
                 },
             )?,
             gbuffer: RasterPipeline::new(
@@ -75,6 +76,7 @@ impl ScenePasses {
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
                     additive_blend: false,
+                    conservative: false,
                 },
             )?,
             lighting: ComputePipeline::new(

@@ -168,6 +168,7 @@ impl Passes {
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
                     additive_blend: false,
+                    conservative: false,
                 },
             )?,
             splat: RasterPipeline::new(
@@ -180,6 +181,7 @@ impl Passes {
                     depth_format: None,
                     depth_bias: None,
                     additive_blend: true,
+                    conservative: false,
                 },
             )?,
         };

@@ -84,6 +84,7 @@ impl VplShadows {
                 depth_format: Some(vk::Format::D32_SFLOAT),
                 depth_bias: Some((1.25, 1.75)),
                 additive_blend: false,
+                conservative: false,
             },
         )?;
         let views = gpu.create_buffer(&BufferDesc::storage(

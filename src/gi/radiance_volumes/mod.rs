@@ -11,6 +11,7 @@ pub mod cascades;
 pub mod cpu;
 pub mod passes;
 pub mod specular;
+pub mod voxelizer;
 pub mod voxels;
 
 use crate::error::InputError;
@@ -100,6 +101,12 @@ const SETTINGS: &[Setting] = &[
         "Voxels per side of the cube around the scene the shadow cones march through",
     ),
     Setting::new(
+        "voxelizer",
+        Kind::Choice(&["auto", "compute", "raster"]),
+        "auto",
+        "How the scene is voxelised: compute (every device), raster (conservative rasterisation, the public code's path; without VK_EXT_conservative_rasterization it misses thin slivers, for tests) or auto (raster where the device rasterises conservatively)",
+    ),
+    Setting::new(
         "shadow-lod",
         Kind::Int { min: 0, max: 8 },
         "2",
@@ -165,6 +172,7 @@ pub struct VolumeSettings {
     pub front_corners: bool,
     pub shadows: bool,
     pub voxels: u32,
+    pub voxelizer: voxelizer::VoxelizerChoice,
     pub shadow_lod: u32,
     pub voxel_fade: u32,
     /// Side of each cache's specular hemisphere map (0: no indirect specular).
@@ -199,6 +207,7 @@ impl VolumeSettings {
             front_corners: settings.text("corners")? == "front",
             shadows: settings.text("indirect-shadows")? == "on",
             voxels: parse_whole("voxels", settings.text("voxels")?)?,
+            voxelizer: voxelizer::VoxelizerChoice::parse(settings.text("voxelizer")?)?,
             shadow_lod: settings.u32("shadow-lod")?,
             voxel_fade: settings.u32("voxel-fade")?,
             specular: match settings.text("specular")? {
@@ -310,10 +319,15 @@ impl GiMethod for RadianceVolumes {
                 let g = &p.voxels.grid;
                 let (level, chain) = p.shadow_level(s);
                 format!(
-                    "radiance volumes: indirect shadows through {}³ voxels of {:.4} ({} levels), one cone per {}x{} VALs ({} cones per cache), voxels fade over {} frame(s)",
+                    "radiance volumes: indirect shadows through {}³ voxels of {:.4} ({} levels, voxelised by {}), one cone per {}x{} VALs ({} cones per cache), voxels fade over {} frame(s)",
                     g.resolution,
                     g.voxel,
                     g.levels(),
+                    match &p.voxels.raster {
+                        None => "compute",
+                        Some(r) if r.conservative => "conservative rasterisation",
+                        Some(_) => "rasterisation without the conservative extension",
+                    },
                     1u32 << level,
                     1u32 << level,
                     chain.side.pow(2) * p.rsm.layers,

@@ -13,6 +13,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::bindings as ids;
 use super::cascades::Cascades;
+use super::voxelizer::RasterVoxelizer;
 use super::voxels::VoxelGrid;
 use super::{Bands, VolumeSettings};
 use crate::gi::FrameContext;
@@ -171,6 +172,8 @@ pub struct Voxels {
     pub volume: Buffer,
     /// Frames of adaptation left since the geometry last changed.
     fade_left: u32,
+    /// The raster voxelisation, where `--voxelizer` picks it (else the compute pass runs).
+    pub raster: Option<RasterVoxelizer>,
 }
 
 pub struct Passes {
@@ -240,7 +243,13 @@ impl Passes {
         let volume_bytes = grid.total() as u64 * 4;
         check_buffer(gpu, "the voxel target", target_bytes)?;
         check_buffer(gpu, "the voxel mip chain", volume_bytes)?;
+        let raster = if settings.shadows {
+            RasterVoxelizer::new(gpu, settings.voxelizer, &grid)?
+        } else {
+            None
+        };
         let voxels = Voxels {
+            raster,
             grid,
             target: gpu.create_buffer(&BufferDesc::storage("rv voxel target", target_bytes))?,
             volume: gpu.create_buffer(&BufferDesc::storage("rv voxels", volume_bytes))?,
@@ -503,7 +512,15 @@ impl Passes {
         if first || ctx.changes.geometry {
             rec.fill_buffer("rv clear voxel target", &self.voxels.target, 0);
             let triangles = ctx.scene.vertex_count / 3;
-            rec.compute(&ComputePass {
+            if let Some(raster) = &self.voxels.raster {
+                let scene = (
+                    &ctx.scene.vertices,
+                    &ctx.scene.triangles,
+                    ctx.scene.vertex_count,
+                );
+                raster.record(rec, scene, &grid, &self.voxels.target)?;
+            } else {
+                rec.compute(&ComputePass {
                 name: "rv voxelize",
                 pipeline: &self.pipelines.voxelize,
                 bindings: &[
@@ -518,6 +535,7 @@ impl Passes {
                 },
                 threads: [triangles.min(MAX_THREADS_X), triangles.div_ceil(MAX_THREADS_X), 1],
             })?;
+            }
             self.voxels.fade_left = if first { 1 } else { settings.voxel_fade };
         }
         if self.voxels.fade_left == 0 {

@@ -397,6 +397,7 @@ impl Solver {
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
                     additive_blend: false,
+                    conservative: false,
                 },
             )?,
             reflectance_sum: Vec3::ONE / (Vec3::ONE - albedo),

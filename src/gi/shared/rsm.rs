@@ -52,6 +52,7 @@ impl Rsm {
                 depth_format: Some(vk::Format::D32_SFLOAT),
                 depth_bias: None,
                 additive_blend: false,
+                conservative: false,
             },
         )?;
         let lights = scene.raster_lights();

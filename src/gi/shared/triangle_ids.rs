@@ -47,6 +47,7 @@ impl TriangleIds {
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
                     additive_blend: false,
+                    conservative: false,
                 },
             )?,
             views: Vec::new(),
