@@ -156,9 +156,18 @@ pub struct DeviceInfo {
     pub shader_buffer_float32_atomic_add: bool,
     /// Fragment shaders may write storage buffers (fragmentStoresAndAtomics).
     pub fragment_stores_and_atomics: bool,
-    /// VK_EXT_conservative_rasterization is enabled: raster pipelines may overestimate
-    /// coverage (every pixel a triangle touches).
-    pub conservative_rasterization: bool,
+    /// VK_EXT_conservative_rasterization, where the device has it (enabled): raster pipelines
+    /// may overestimate coverage (every pixel a triangle touches).
+    pub conservative_rasterization: Option<ConservativeRasterization>,
+}
+
+/// What the device's conservative rasterisation does beyond the pixel square.
+#[derive(Clone, Copy, Debug)]
+pub struct ConservativeRasterization {
+    /// The largest extra overestimation a pipeline may ask for, in pixels.
+    pub max_extra_overestimation: f32,
+    /// Whether triangles that become degenerate when their vertices snap are still drawn.
+    pub degenerate_triangles_rasterized: bool,
 }
 
 impl DeviceInfo {
@@ -763,9 +772,14 @@ fn create_device(
 
     let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
     let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+    let mut conservative_props =
+        vk::PhysicalDeviceConservativeRasterizationPropertiesEXT::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default()
         .push_next(&mut driver_props)
         .push_next(&mut maintenance3);
+    if conservative {
+        props2 = props2.push_next(&mut conservative_props);
+    }
     // SAFETY: the pNext chain is a local valid for the call.
     unsafe { instance.get_physical_device_properties2(physical, &mut props2) };
     let props = props2.properties;
@@ -793,7 +807,11 @@ fn create_device(
         max_memory_allocation_size: maintenance3.max_memory_allocation_size,
         shader_buffer_float32_atomic_add: atomic_add,
         fragment_stores_and_atomics: base.fragment_stores_and_atomics == vk::TRUE,
-        conservative_rasterization: conservative,
+        conservative_rasterization: conservative.then_some(ConservativeRasterization {
+            max_extra_overestimation: conservative_props.max_extra_primitive_overestimation_size,
+            degenerate_triangles_rasterized: conservative_props.degenerate_triangles_rasterized
+                == vk::TRUE,
+        }),
     };
     Ok((device, plan, info))
 }

@@ -25,7 +25,10 @@ pub enum Access {
     ComputeSampled,
     /// Storage-buffer read in the vertex or fragment stage.
     GraphicsRead,
-    /// Storage read and write in the fragment stage (needs fragmentStoresAndAtomics).
+    /// Storage read and write in the vertex or fragment stage (fragment shaders need
+    /// fragmentStoresAndAtomics, which vkgi enables where the device has it; vertex shaders
+    /// would need vertexPipelineStoresAndAtomics, which it does not enable, so the validation
+    /// layers reject a vertex-stage write).
     GraphicsWrite,
     /// Sampled read (texture) in the vertex or fragment stage.
     GraphicsSampled,
@@ -59,7 +62,7 @@ impl Access {
                 L::GENERAL,
             ),
             Access::GraphicsWrite => (
-                S::FRAGMENT_SHADER,
+                S::VERTEX_SHADER | S::FRAGMENT_SHADER,
                 A::SHADER_STORAGE_READ | A::SHADER_STORAGE_WRITE,
                 L::GENERAL,
             ),

@@ -84,8 +84,9 @@ pub struct RasterPipelineDesc<'a> {
     pub depth_bias: Option<(f32, f32)>,
     /// Add the fragments' outputs to the attachments (one plus one) instead of replacing them.
     pub additive_blend: bool,
-    /// Rasterise every pixel a triangle touches (overestimating conservative rasterisation;
-    /// only on a device with VK_EXT_conservative_rasterization, see `DeviceInfo`).
+    /// Rasterise every pixel a triangle touches (overestimating conservative rasterisation,
+    /// a quarter pixel beyond the square where the device allows; only on a device with
+    /// VK_EXT_conservative_rasterization, see `DeviceInfo`).
     pub conservative: bool,
 }
 
@@ -330,9 +331,15 @@ impl RasterPipeline {
             Some((c, s)) => (true, c, s),
             None => (false, 0.0, 0.0),
         };
+        // A quarter pixel beyond the square (where the device allows it), so a vertex the
+        // rasteriser snaps inward still reaches the pixel it touched.
+        let extra = gpu
+            .info
+            .conservative_rasterization
+            .map_or(0.0, |c| c.max_extra_overestimation.min(0.25));
         let mut conservative = vk::PipelineRasterizationConservativeStateCreateInfoEXT::default()
             .conservative_rasterization_mode(vk::ConservativeRasterizationModeEXT::OVERESTIMATE)
-            .extra_primitive_overestimation_size(0.0);
+            .extra_primitive_overestimation_size(extra);
         let mut raster = vk::PipelineRasterizationStateCreateInfo::default()
             .polygon_mode(vk::PolygonMode::FILL)
             .cull_mode(vk::CullModeFlags::NONE)

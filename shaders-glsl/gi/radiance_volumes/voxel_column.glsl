@@ -50,8 +50,20 @@ bool voxel_triangle(vec3 corner[3], out VoxelTriangle t) {
     return true;
 }
 
+// Whether column (i, j) lies in the triangle's bounding box, clamped to the cube (the
+// separating axes of the projection plane; the compute pass loops over exactly these columns).
+bool voxel_column_in_box(VoxelTriangle t, uvec2 column, uint resolution) {
+    float n = float(resolution);
+    vec2 lo = min(t.p[0], min(t.p[1], t.p[2]));
+    vec2 hi = max(t.p[0], max(t.p[1], t.p[2]));
+    vec2 first = floor(max(lo, vec2(0.0)));
+    vec2 last = floor(min(hi, vec2(n - 1.0)));
+    vec2 at = vec2(column);
+    return all(greaterThanEqual(at, first)) && all(lessThanEqual(at, last));
+}
+
 // Whether the square of column (i, j) overlaps the projected triangle (its edges' separating
-// axes; the caller keeps to the triangle's bounding box).
+// axes; with `voxel_column_in_box`, the exact test).
 bool voxel_column_overlaps(VoxelTriangle t, uvec2 column) {
     vec2 xy = vec2(column);
     bool inside = true;

@@ -1,8 +1,8 @@
 #version 460
 // One voxel column of one triangle (see voxelize_raster.vert): the column's square must overlap
-// the projected triangle (the rasteriser overestimates; the exact test then keeps exactly the
-// compute voxelisation's columns), and the voxels between the plane's lowest and highest depth
-// over the square, within the triangle's depth range, are marked.
+// the projected triangle (the rasteriser overestimates; the exact test, bounding box and edges,
+// then keeps only the compute voxelisation's columns), and the voxels between the plane's lowest
+// and highest depth over the square, within the triangle's depth range, are marked.
 #include "common/scene.glsl"
 #include "gi/radiance_volumes/voxel_column.glsl"
 
@@ -28,6 +28,7 @@ void main() {
     uvec2 column = uvec2(gl_FragCoord.xy);
     uint k0;
     uint k1;
-    if (!voxel_column_overlaps(t, column) || !voxel_column_range(t, column, pc.resolution, k0, k1)) return;
+    if (!voxel_column_in_box(t, column, pc.resolution) || !voxel_column_overlaps(t, column)
+        || !voxel_column_range(t, column, pc.resolution, k0, k1)) return;
     for (uint k = k0; k <= k1; ++k) target[voxel_column_index(t, column, k, pc.resolution)] = 1u;
 }

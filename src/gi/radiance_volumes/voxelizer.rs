@@ -1,9 +1,12 @@
 //! Which pass voxelises the scene for the shadow cones (spec 001 §4.6): the conservative
 //! compute pass every device runs, or the public code's path, a draw of every triangle onto the
 //! cube face across its dominant axis with overestimating conservative rasterisation, on
-//! devices with VK_EXT_conservative_rasterization. Both mark the same voxels (the fragment
-//! shader keeps the compute pass's exact column test); without the extension the raster path
-//! only reaches columns whose centre a triangle covers, a subset, and is there for tests.
+//! devices with VK_EXT_conservative_rasterization. The fragment shader keeps the compute pass's
+//! exact column test, so the raster path marks no voxel the compute one does not, and with
+//! overestimation (a quarter pixel extra, triangles degenerate after snapping still drawn) it
+//! reaches every column the compute pass does; `auto` takes it only on such a device. Without
+//! the extension it only reaches columns whose centre a triangle covers, a subset; that mode is
+//! there for tests.
 
 use ash::vk;
 
@@ -60,11 +63,14 @@ impl RasterVoxelizer {
         choice: VoxelizerChoice,
         grid: &VoxelGrid,
     ) -> anyhow::Result<Option<RasterVoxelizer>> {
-        let conservative = gpu.info.conservative_rasterization;
+        let device = gpu.info.conservative_rasterization;
+        let conservative = device.is_some();
         let stores = gpu.info.fragment_stores_and_atomics;
         let raster = match choice {
             VoxelizerChoice::Compute => false,
-            VoxelizerChoice::Auto => conservative && stores,
+            VoxelizerChoice::Auto => {
+                stores && device.is_some_and(|c| c.degenerate_triangles_rasterized)
+            }
             VoxelizerChoice::Raster if !stores => {
                 return Err(InputError::new(
                     "--voxelizer raster: the device cannot write storage buffers from fragment shaders (fragmentStoresAndAtomics)",
