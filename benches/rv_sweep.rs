@@ -1,7 +1,8 @@
-//! Seed 001's resolution-dependence sweeps (spec 001 §6) regenerated for `radiance-volumes`
-//! (issue #16, item 6): caches held, GPU memory and per-pass time against screen resolution,
-//! cascade count and voxel resolution, on the Cornell box and `atrium`, each configuration
-//! otherwise at the method's defaults, indirect light only.
+//! Seed 001's sweeps (spec 001 §6) regenerated for `radiance-volumes` (issue #16, item 6):
+//! caches held, GPU memory and per-pass time against screen resolution, cascade count, voxel
+//! resolution and shadow LOD (on the Cornell box and `atrium`) and the specular map's side (on
+//! their glossy variants), each configuration otherwise at the method's defaults, indirect
+//! light only.
 //!
 //! cargo bench --bench rv_sweep [-- OUT_DIR]   (the markdown table to stdout, as
 //! docs/radiance-volumes.md holds it; one plot per sweep, rv-sweep-*.png, in OUT_DIR,
@@ -84,12 +85,16 @@ fn measure(
 /// defaults.
 type SweepPoint = (f64, (u32, u32), Vec<(&'static str, String)>);
 
-/// A sweep: its name, the x axis's label, and its points.
+/// A sweep: its name, the x axis's label, the scenes it runs on, and its points.
 struct Sweep {
     name: &'static str,
     axis: &'static str,
+    scenes: [&'static str; 2],
     points: Vec<SweepPoint>,
 }
+
+/// The scenes of the sweeps that need no glossy material.
+const SCENES: [&str; 2] = ["cornell", "atrium"];
 
 fn sweeps() -> Vec<Sweep> {
     let small = (160, 120);
@@ -97,6 +102,7 @@ fn sweeps() -> Vec<Sweep> {
         Sweep {
             name: "screen",
             axis: "pixels",
+            scenes: SCENES,
             points: [(160, 120), (320, 240), (640, 480)]
                 .map(|(w, h)| (f64::from(w * h), (w, h), vec![]))
                 .to_vec(),
@@ -104,6 +110,7 @@ fn sweeps() -> Vec<Sweep> {
         Sweep {
             name: "cascades",
             axis: "cascades",
+            scenes: SCENES,
             points: (1..=4)
                 .map(|c| (f64::from(c), small, vec![("cascades", c.to_string())]))
                 .collect(),
@@ -111,8 +118,25 @@ fn sweeps() -> Vec<Sweep> {
         Sweep {
             name: "voxels",
             axis: "voxels per side",
+            scenes: SCENES,
             points: [32, 64, 128, 256]
                 .map(|v| (f64::from(v), small, vec![("voxels", v.to_string())]))
+                .to_vec(),
+        },
+        Sweep {
+            name: "shadow-lod",
+            axis: "shadow LOD + 1 (one cone per 4^LOD VALs)",
+            scenes: SCENES,
+            points: (0..=3)
+                .map(|l| (f64::from(l + 1), small, vec![("shadow-lod", l.to_string())]))
+                .collect(),
+        },
+        Sweep {
+            name: "specular",
+            axis: "specular map side",
+            scenes: ["cornell-glossy", "atrium-glossy"],
+            points: [4, 8, 16]
+                .map(|p| (f64::from(p), small, vec![("specular", p.to_string())]))
                 .to_vec(),
         },
     ]
@@ -126,21 +150,21 @@ fn main() -> anyhow::Result<()> {
         PASSES.join(" ms | ")
     );
     println!("|---|---|---|---|---|---|---|---|---|");
-    let scenes = ["cornell", "atrium"];
     let mut plots: Vec<(&str, &str, Vec<Series>)> = Vec::new();
     for sweep in sweeps() {
         let mut series = Vec::new();
-        for (colour, name) in scenes.iter().enumerate() {
+        for (colour, name) in sweep.scenes.iter().enumerate() {
             let scene = Scene::load(name)?;
             let mut caches = Vec::new();
             let mut memory = Vec::new();
             let mut light = Vec::new();
+            let mut apply = Vec::new();
             for (x, size, settings) in &sweep.points {
                 let p = measure(&gpu, &scene, *size, settings)?;
-                let value = if sweep.name == "screen" {
-                    format!("{}x{}", size.0, size.1)
-                } else {
-                    format!("{x}")
+                let value = match sweep.name {
+                    "screen" => format!("{}x{}", size.0, size.1),
+                    "shadow-lod" => format!("{}", x - 1.0),
+                    _ => format!("{x}"),
                 };
                 println!(
                     "| {name} | {} | {value} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} |",
@@ -149,6 +173,7 @@ fn main() -> anyhow::Result<()> {
                 caches.push((*x, f64::from(p.caches)));
                 memory.push((*x, p.memory_mib));
                 light.push((*x, p.ms[1]));
+                apply.push((*x, p.ms[2]));
             }
             series.push(Series::line(&format!("{name}: caches"), colour, caches));
             series.push(Series::line(
@@ -161,6 +186,13 @@ fn main() -> anyhow::Result<()> {
                 colour + 4,
                 light,
             ));
+            if sweep.name == "specular" {
+                series.push(Series::line(
+                    &format!("{name}: rv apply ms"),
+                    colour + 6,
+                    apply,
+                ));
+            }
         }
         plots.push((sweep.name, sweep.axis, series));
     }
@@ -168,7 +200,7 @@ fn main() -> anyhow::Result<()> {
         let path = out.join(format!("rv-sweep-{name}.png"));
         write_plot(
             &path,
-            &format!("radiance-volumes: caches, memory and light-pass time against {axis}"),
+            &format!("radiance-volumes: caches, memory and pass times against {axis}"),
             axis,
             "caches / MiB / ms",
             series,
