@@ -499,6 +499,38 @@ impl Passes {
         (level, self.levels[level as usize])
     }
 
+    /// Mark the voxels every triangle touches in the binary target, by the raster pass where
+    /// `--voxelizer` picked it, else by the compute pass (one thread per triangle).
+    fn record_voxelize(&self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
+        let grid = &self.voxels.grid;
+        let scene = ctx.scene;
+        if let Some(raster) = &self.voxels.raster {
+            let triangles = (&scene.vertices, &scene.triangles, scene.vertex_count);
+            return raster.record(rec, triangles, grid, &self.voxels.target);
+        }
+        let triangles = scene.vertex_count / 3;
+        let threads = [
+            triangles.min(MAX_THREADS_X),
+            triangles.div_ceil(MAX_THREADS_X),
+            1,
+        ];
+        rec.compute(&ComputePass {
+            name: "rv voxelize",
+            pipeline: &self.pipelines.voxelize,
+            bindings: &[
+                Binding::read(ids::RV_VERTICES, &scene.vertices),
+                Binding::read(ids::RV_TRIANGLES, &scene.triangles),
+                Binding::write(ids::RV_VOXEL_TARGET, &self.voxels.target),
+            ],
+            push: &VoxelizePush {
+                lo_voxel: grid.min.extend(grid.voxel).to_array(),
+                resolution: grid.resolution,
+                triangle_count: triangles,
+            },
+            threads,
+        })
+    }
+
     /// Voxelise the scene again where its geometry changed, and move the occupancy toward it
     /// for `--voxel-fade` frames (at once on the method's first frame), mips included.
     fn record_voxels(
@@ -511,31 +543,7 @@ impl Passes {
         let first = ctx.frame == 0;
         if first || ctx.changes.geometry {
             rec.fill_buffer("rv clear voxel target", &self.voxels.target, 0);
-            let triangles = ctx.scene.vertex_count / 3;
-            if let Some(raster) = &self.voxels.raster {
-                let scene = (
-                    &ctx.scene.vertices,
-                    &ctx.scene.triangles,
-                    ctx.scene.vertex_count,
-                );
-                raster.record(rec, scene, &grid, &self.voxels.target)?;
-            } else {
-                rec.compute(&ComputePass {
-                name: "rv voxelize",
-                pipeline: &self.pipelines.voxelize,
-                bindings: &[
-                    Binding::read(ids::RV_VERTICES, &ctx.scene.vertices),
-                    Binding::read(ids::RV_TRIANGLES, &ctx.scene.triangles),
-                    Binding::write(ids::RV_VOXEL_TARGET, &self.voxels.target),
-                ],
-                push: &VoxelizePush {
-                    lo_voxel: grid.min.extend(grid.voxel).to_array(),
-                    resolution: grid.resolution,
-                    triangle_count: triangles,
-                },
-                threads: [triangles.min(MAX_THREADS_X), triangles.div_ceil(MAX_THREADS_X), 1],
-            })?;
-            }
+            self.record_voxelize(rec, ctx)?;
             self.voxels.fade_left = if first { 1 } else { settings.voxel_fade };
         }
         if self.voxels.fade_left == 0 {
