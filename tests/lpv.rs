@@ -311,7 +311,7 @@ fn vpls_of(gpu: &vkgi::gpu::Gpu, scene: &Scene, lpv: &Lpv) -> Vec<cpu::Vpl> {
 
 #[test]
 fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_light() {
-    use vkgi::gi::lpv::InjectToward;
+    use vkgi::gi::lpv::{InjectToward, Injection};
     let gpu = common::gpu();
     // The spot-lit Cornell box, and a point light sealed in a cube (VPLs at its edges are where
     // the two ways differ most).
@@ -322,7 +322,11 @@ fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_li
         with_point_light(&Scene::load("cornell").unwrap(), light, 10.0, Some(cube)),
     ];
     for scene in &scenes {
-        for (toward, offset) in [(InjectToward::Normal, 0.5), (InjectToward::Light, 1.0)] {
+        let ways = [(InjectToward::Normal, 0.5), (InjectToward::Light, 1.0)];
+        let cases = ways
+            .into_iter()
+            .flat_map(|way| [Injection::Float, Injection::Fixed].map(|i| (way, i)));
+        for ((toward, offset), injection) in cases {
             // One frame of ILPV at λ 0 with one step: the lookup's lattice is the injection.
             let settings = LpvSettings {
                 lattice: 16,
@@ -331,6 +335,7 @@ fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_li
                 incremental: 0.0,
                 inject_offset: offset,
                 inject_toward: toward,
+                injection,
                 ..LpvSettings::default()
             };
             let mut lpv = Lpv::new(&Setup::new(&gpu, scene), settings).unwrap();
@@ -344,7 +349,7 @@ fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_li
                 .map(|c| relative_error(&injected[c], &expected[c]))
                 .fold(0.0, f64::max);
             eprintln!(
-                "{} {toward:?}: {} VPLs, worst relative difference {error:.2e}",
+                "{} {toward:?} {injection:?}: {} VPLs, worst relative difference {error:.2e}",
                 scene.lights.len(),
                 vpls.len()
             );
@@ -353,6 +358,62 @@ fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_li
         }
     }
     common::assert_no_validation_errors(&gpu);
+}
+
+/// Seed 000 §11.4: a CAVE's nodes must carry bit-identical lattices. Two devices run eight ILPV
+/// frames (the light carried across frames, a moved light in between) with the fixed-point
+/// injection and must agree to the bit; the float-atomic injection agrees with them to float
+/// rounding.
+#[test]
+fn fixed_point_injection_gives_the_same_bits_on_every_device_and_matches_float_atomics() {
+    use vkgi::gi::lpv::Injection;
+    let scene = Scene::load("cornell").unwrap();
+    let settings = |injection| LpvSettings {
+        lattice: 16,
+        rsm: 64,
+        injection,
+        ..LpvSettings::default()
+    };
+    let run = |injection| {
+        let gpu = common::gpu();
+        let mut scene = scene.clone();
+        let (mut lpv, _) = run_ilpv_frames(&gpu, &scene, settings(injection), 4);
+        // Four more frames after the light moved (the blend carries the old light on).
+        scene.lights[0].position += Vec3::new(0.05, 0.0, 0.02);
+        let mut frame =
+            vkgi::render::Frame::new(&gpu, &scene, common::indirect_only(16, 12)).unwrap();
+        drop(vkgi::render::runner::run_frames(&gpu, &mut frame, Some(&mut lpv), 0, 4).unwrap());
+        let lattices = lpv.read_result(&gpu).unwrap();
+        common::assert_no_validation_errors(&gpu);
+        lattices
+    };
+    let bits = |lattices: &[Vec<[f32; 4]>; 3]| -> Vec<u32> {
+        lattices
+            .iter()
+            .flatten()
+            .flatten()
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let (first, second) = (run(Injection::Fixed), run(Injection::Fixed));
+    assert!(first.iter().flatten().flatten().any(|&v| v != 0.0));
+    assert_eq!(
+        bits(&first),
+        bits(&second),
+        "fixed point differs between devices"
+    );
+    let float = run(Injection::Float);
+    let error = (0..3)
+        .map(|c| {
+            let exact: Vec<DVec4> = first[c]
+                .iter()
+                .map(|v| DVec4::from(v.map(f64::from)))
+                .collect();
+            relative_error(&float[c], &exact)
+        })
+        .fold(0.0, f64::max);
+    eprintln!("float against fixed-point injection after 8 frames: {error:.2e}");
+    assert!(error < 1e-5, "{error}");
 }
 
 #[test]

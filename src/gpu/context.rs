@@ -154,6 +154,8 @@ pub struct DeviceInfo {
     /// Largest single memory allocation the device supports (maxMemoryAllocationSize).
     pub max_memory_allocation_size: u64,
     pub shader_buffer_float32_atomic_add: bool,
+    /// 64-bit integer atomics on storage buffers (shaderBufferInt64Atomics with shaderInt64).
+    pub shader_buffer_int64_atomics: bool,
     /// Fragment shaders may write storage buffers (fragmentStoresAndAtomics).
     pub fragment_stores_and_atomics: bool,
     /// VK_EXT_conservative_rasterization, where the device has it (enabled): raster pipelines
@@ -697,6 +699,8 @@ fn create_device(
         features13_query.synchronization2 == vk::TRUE,
     );
     let has_timeline = features12_query.timeline_semaphore == vk::TRUE;
+    let int64_atomics =
+        base.shader_int64 == vk::TRUE && features12_query.shader_buffer_int64_atomics == vk::TRUE;
     let atomic_add =
         has_atomic_float && atomic_float_query.shader_buffer_float32_atomic_add == vk::TRUE;
     if !(has_dynamic_rendering && has_sync2 && has_timeline) {
@@ -727,7 +731,8 @@ fn create_device(
         .synchronization2(true);
     let mut features12 = vk::PhysicalDeviceVulkan12Features::default()
         .timeline_semaphore(true)
-        .host_query_reset(features12_query.host_query_reset == vk::TRUE);
+        .host_query_reset(features12_query.host_query_reset == vk::TRUE)
+        .shader_buffer_int64_atomics(int64_atomics);
     let mut atomic_float = vk::PhysicalDeviceShaderAtomicFloatFeaturesEXT::default()
         .shader_buffer_float32_atomic_add(atomic_add);
     let enabled = vk::PhysicalDeviceFeatures::default()
@@ -806,6 +811,7 @@ fn create_device(
         max_image_array_layers: limits.max_image_array_layers,
         max_memory_allocation_size: maintenance3.max_memory_allocation_size,
         shader_buffer_float32_atomic_add: atomic_add,
+        shader_buffer_int64_atomics: int64_atomics,
         fragment_stores_and_atomics: base.fragment_stores_and_atomics == vk::TRUE,
         conservative_rasterization: conservative.then_some(ConservativeRasterization {
             max_extra_overestimation: conservative_props.max_extra_primitive_overestimation_size,

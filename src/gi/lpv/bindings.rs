@@ -10,6 +10,12 @@ crate::shared_constants! {
     INJECT_LATTICE_G: u32 = 4;
     INJECT_LATTICE_B: u32 = 5;
     INJECT_VIEWS: u32 = 6;
+    RESOLVE_FIXED_R: u32 = 0;
+    RESOLVE_FIXED_G: u32 = 1;
+    RESOLVE_FIXED_B: u32 = 2;
+    RESOLVE_LATTICE_R: u32 = 3;
+    RESOLVE_LATTICE_G: u32 = 4;
+    RESOLVE_LATTICE_B: u32 = 5;
 
     // ---- ILPV merge and clamp compensation ----
     MERGE_CURRENT: u32 = 0;

@@ -3,7 +3,7 @@
 
 use super::geometry::BlockingLobe;
 use super::technique::{
-    self as t, Extinction, FarLattice, IlpvLookup, InjectToward, Lpv, LpvSettings, Scheme,
+    self as t, Extinction, FarLattice, IlpvLookup, InjectToward, Injection, Lpv, LpvSettings, Scheme,
 };
 use crate::error::InputError;
 use crate::gi::GiMethod;
@@ -112,6 +112,12 @@ const INJECT_TOWARD: Setting = Setting::new(
     "normal",
     "Which way VPLs move before injection: along their normal (the thesis) or toward their light, at most half way (no VPL of a light sealed in a box lands in a cell centred outside it)",
 );
+const INJECTION: Setting = Setting::new(
+    "injection",
+    Kind::Choice(&["float", "fixed"]),
+    "float",
+    "How VPLs add into their cells: float atomics (fast; a cell's sum depends on the threads' order) or 64-bit fixed-point integer atomics (bit-identical on every run and every node of a CAVE)",
+);
 const LOOKUP_OFFSET: Setting = Setting::new(
     "lookup-offset",
     Kind::Float {
@@ -162,6 +168,7 @@ const ILPV_SETTINGS: &[Setting] = &[
     NO_CLAMP_COMPENSATION,
     INJECT_OFFSET,
     INJECT_TOWARD,
+    INJECTION,
     LOOKUP_OFFSET,
     ILPV_LOOKUP,
     FAR_LATTICE,
@@ -178,6 +185,7 @@ const LPV_SETTINGS: &[Setting] = &[
     NAIVE,
     INJECT_OFFSET,
     INJECT_TOWARD,
+    INJECTION,
     LOOKUP_OFFSET,
 ];
 
@@ -280,6 +288,10 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         inject_toward: match s.has("inject-toward").then(|| s.text("inject-toward")).transpose()? {
             Some("light") => InjectToward::Light,
             _ => InjectToward::Normal,
+        },
+        injection: match s.has("injection").then(|| s.text("injection")).transpose()? {
+            Some("fixed") => Injection::Fixed,
+            _ => Injection::Float,
         },
         lookup_offset: float_or("lookup-offset", defaults.lookup_offset)?,
         far_lattice: match s.has("far-lattice").then(|| s.text("far-lattice")).transpose()? {

@@ -17,4 +17,4 @@ pub mod visibility;
 pub mod void_side;
 
 pub use entry::METHODS;
-pub use technique::{Extinction, InjectToward, Lpv, LpvSettings, Scheme};
+pub use technique::{Extinction, InjectToward, Injection, Lpv, LpvSettings, Scheme};

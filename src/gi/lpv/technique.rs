@@ -125,6 +125,8 @@ pub struct LpvSettings {
     pub inject_offset: f32,
     /// Which way VPLs move before injection.
     pub inject_toward: InjectToward,
+    /// How VPLs add into their cells.
+    pub injection: Injection,
     /// The lookup reads this many cells along the surface normal (the thesis: 0.5).
     pub lookup_offset: f32,
     /// ILPV in two scales: the coarse far-field lattice (see [`super::two_scale`]).
@@ -146,6 +148,17 @@ pub enum InjectToward {
     /// box around the light, where moving along one face's normal leaves it in a cell centred
     /// outside the next face.
     Light,
+}
+
+/// How VPLs add into their cells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Injection {
+    /// Float atomics: a cell's sum depends on the order the threads add in, so runs (and the
+    /// nodes of a CAVE) may differ in the last bits, and ILPV carries such differences on.
+    Float,
+    /// 64-bit fixed-point integer atomics, then one pass back to floats: the same bits on every
+    /// run (seed 000 §11.4's deterministic injection).
+    Fixed,
 }
 
 /// The far-field lattice of two-scale ILPV.
@@ -178,6 +191,7 @@ impl Default for LpvSettings {
             ilpv_lookup: IlpvLookup::Accumulated,
             inject_offset: DEFAULT_INJECT_OFFSET,
             inject_toward: InjectToward::Normal,
+            injection: Injection::Float,
             lookup_offset: DEFAULT_LOOKUP_OFFSET,
             far_lattice: FarLattice::Auto,
             near_steps: DEFAULT_NEAR_STEPS,
@@ -300,6 +314,14 @@ crate::push_constants! {
         layers: u32,
         offset: f32,
         toward_light: u32,
+        scale: f32,
+    }
+}
+
+crate::push_constants! {
+    struct ResolvePush {
+        coefficients: u32,
+        inverse_scale: f32,
     }
 }
 
@@ -399,6 +421,8 @@ pub struct Lpv {
     /// The workgroup tile of the propagation kernel (tiled: the shared-memory tile).
     pub tile: [u32; 3],
     inject_pipeline: ComputePipeline,
+    /// The fixed-point injection's sums and the pass back to floats (`Injection::Fixed`).
+    fixed: Option<FixedInjection>,
     merge_pipeline: ComputePipeline,
     compensate_pipeline: ComputePipeline,
     propagate_pipeline: ComputePipeline,
@@ -433,6 +457,27 @@ pub struct Lpv {
     device_shared_bytes: u32,
 }
 
+/// What the deterministic injection adds to a lattice: 64-bit sums per coefficient and channel,
+/// and the pass that turns them into the lattice's floats.
+struct FixedInjection {
+    sums: [Buffer; 3],
+    resolve: ComputePipeline,
+}
+
+/// Accumulator units per unit of light for a frame whose lights emit `flux` per channel: the
+/// power of two that puts the whole emitted flux at 2^54 units or less. A cell's VPLs reflect
+/// at most the light that reached them, and a coefficient of the lobe Φ/π SH_cos(n) is at most
+/// 0.33 Φ, so no cell can come near the 2^63 an i64 holds; the exact power of two makes the
+/// sums' conversion back (sum × 2^-k) exact but for the final rounding to float.
+pub fn fixed_point_scale(flux: [f64; 3]) -> f32 {
+    let bound = flux.iter().fold(0.0f64, |m, &f| m.max(f.abs()));
+    if !(bound.is_finite() && bound > 0.0) {
+        return 1.0;
+    }
+    let exponent = (54.0 - bound.log2()).floor().clamp(-100.0, 100.0);
+    2f64.powf(exponent) as f32
+}
+
 impl Lpv {
     /// One lattice of `settings` (whatever its `far_lattice`: two scales are
     /// [`super::two_scale::create`]'s).
@@ -460,10 +505,14 @@ impl Lpv {
             ))
             .into());
         }
-        if !gpu.info.shader_buffer_float32_atomic_add {
-            anyhow::bail!(
-                "LPV injection needs float atomics (VK_EXT_shader_atomic_float), which this device lacks"
-            );
+        match settings.injection {
+            Injection::Float if !gpu.info.shader_buffer_float32_atomic_add => anyhow::bail!(
+                "LPV injection with float atomics needs VK_EXT_shader_atomic_float, which this device lacks (--injection fixed does not)"
+            ),
+            Injection::Fixed if !gpu.info.shader_buffer_int64_atomics => anyhow::bail!(
+                "--injection fixed needs 64-bit integer atomics (shaderBufferInt64Atomics), which this device lacks"
+            ),
+            _ => {}
         }
         (setup.progress)("transfer vectors", 0.0);
         let transfer = TransferVectors::compute(TRANSFER_SAMPLES, TRANSFER_SEED);
@@ -520,6 +569,24 @@ impl Lpv {
             ])
         };
         let lattices = [channel_pair(0)?, channel_pair(1)?, channel_pair(2)?];
+        let fixed = match settings.injection {
+            Injection::Float => None,
+            Injection::Fixed => {
+                let sums = |c: usize| {
+                    let name = format!("fixed-point injection {}", CHANNELS[c]);
+                    gpu.create_buffer(&BufferDesc::storage(&name, (cells * 4 * 8) as u64))
+                };
+                Some(FixedInjection {
+                    sums: [sums(0)?, sums(1)?, sums(2)?],
+                    resolve: ComputePipeline::new(
+                        gpu,
+                        "inject resolve",
+                        shaders::GI_LPV_INJECT_RESOLVE_COMP,
+                        &none,
+                    )?,
+                })
+            }
+        };
         let accumulation = [
             lattice_buffer("accumulation R".into())?,
             lattice_buffer("accumulation G".into())?,
@@ -565,9 +632,13 @@ impl Lpv {
             inject_pipeline: ComputePipeline::new(
                 gpu,
                 "inject",
-                shaders::GI_LPV_INJECT_COMP,
+                match settings.injection {
+                    Injection::Float => shaders::GI_LPV_INJECT_COMP,
+                    Injection::Fixed => shaders::GI_LPV_INJECT_FIXED_COMP,
+                },
                 &none,
             )?,
+            fixed,
             merge_pipeline: ComputePipeline::new(gpu, "merge", shaders::GI_LPV_MERGE_COMP, &none)?,
             compensate_pipeline: ComputePipeline::new(
                 gpu,
@@ -690,10 +761,16 @@ impl Lpv {
         views: u32,
     ) -> GpuResult<()> {
         let target = self.current;
-        let [r, g, b] = [0, 1, 2].map(|c| &self.lattices[c][target]);
-        for lattice in [r, g, b] {
-            rec.fill_buffer("clear lattice", lattice, 0);
+        let lattices = [0, 1, 2].map(|c| &self.lattices[c][target]);
+        // Float atomics add straight into the lattice; fixed point into its sums first.
+        let [r, g, b] = match &self.fixed {
+            None => lattices,
+            Some(fixed) => [0, 1, 2].map(|c| &fixed.sums[c]),
+        };
+        for sums in [r, g, b] {
+            rec.fill_buffer("clear lattice", sums, 0);
         }
+        let scale = fixed_point_scale(self.energy);
         let mut dims = self.dims();
         dims[3] = self.settings.rsm as i32;
         let o = self.lattice.origin;
@@ -703,6 +780,7 @@ impl Lpv {
             layers: views,
             offset: self.settings.inject_offset,
             toward_light: u32::from(self.settings.inject_toward == InjectToward::Light),
+            scale,
         };
         rec.compute(&ComputePass {
             name: "inject",
@@ -718,6 +796,27 @@ impl Lpv {
             ],
             push: &push,
             threads: [self.settings.rsm, self.settings.rsm, views],
+        })?;
+        let Some(fixed) = &self.fixed else {
+            return Ok(());
+        };
+        let coefficients = 4 * self.lattice.cell_count() as u32;
+        rec.compute(&ComputePass {
+            name: "inject resolve",
+            pipeline: &fixed.resolve,
+            bindings: &[
+                Binding::read(ids::RESOLVE_FIXED_R, r),
+                Binding::read(ids::RESOLVE_FIXED_G, g),
+                Binding::read(ids::RESOLVE_FIXED_B, b),
+                Binding::write(ids::RESOLVE_LATTICE_R, lattices[0]),
+                Binding::write(ids::RESOLVE_LATTICE_G, lattices[1]),
+                Binding::write(ids::RESOLVE_LATTICE_B, lattices[2]),
+            ],
+            push: &ResolvePush {
+                coefficients,
+                inverse_scale: 1.0 / scale,
+            },
+            threads: [coefficients, 1, 1],
         })
     }
 
