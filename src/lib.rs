@@ -1,6 +1,8 @@
 //! vkgi: real-time global illumination on raw Vulkan, measured against a reference path tracer.
 
 pub mod app;
+pub mod cave;
+pub mod digest;
 pub mod error;
 pub mod font;
 pub mod gi;

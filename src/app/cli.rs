@@ -41,6 +41,12 @@ pub enum Command {
     /// Every GI method over a grid of settings, scored against the cached reference: speed
     /// against error as report.md, report.json, plots and an image strip.
     Report(ReportArgs),
+    /// The master of a CAVE run over several processes: owns the tracked head and the light,
+    /// sends every render node versioned updates and holds them frame-locked.
+    CaveMaster(CaveMasterArgs),
+    /// One render node of a CAVE run: one wall, its own Vulkan device, the whole frame
+    /// replicated, driven by `vkgi cave-master`.
+    CaveNode(CaveNodeArgs),
     /// List the built-in scenes, or write one (or any scene vkgi reads: a glTF converted, say)
     /// as the files vkgi reads: OBJ, MTL, PNG textures and a scene file (.toml).
     Scene(SceneArgs),
@@ -191,11 +197,15 @@ pub struct ViewArgs {
     /// With --cave: the CAVE's wall size as a fraction of the scene's diagonal.
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.2)]
     pub cave_size: f32,
+    /// With --cave: tracked samples that move the head (and the first light) frame by frame,
+    /// as `vkgi cave-master --path` reads them (src/cave/path.rs).
+    #[arg(long, value_name = "FILE", requires = "cave")]
+    pub path: Option<PathBuf>,
     /// Close after this many frames (for scripts and tests).
     #[arg(long, allow_negative_numbers = true)]
     pub frames: Option<u64>,
     /// On closing, save the first view as PREFIX.png and PREFIX.exr, and the window with its
-    /// overlay as PREFIX-window.png.
+    /// overlay as PREFIX-window.png; with --cave also every wall as PREFIX-WALL.png and .exr.
     #[arg(long, value_name = "PREFIX")]
     pub screenshot: Option<PathBuf>,
     /// Ask the window for this size half-way through --frames (tests resizing).
@@ -212,6 +222,87 @@ pub struct ViewArgs {
     pub frame: FrameArgs,
     #[command(flatten)]
     pub profile: ProfileArgs,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
+}
+
+/// Where a CAVE master listens unless told otherwise (loopback: a run on one machine).
+pub const DEFAULT_CAVE_ADDRESS: &str = "127.0.0.1:7450";
+
+/// What the master does when a node dies or stops answering.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OnLoss {
+    /// Say which wall was lost and go on with the others.
+    Continue,
+    /// Say which wall was lost, stop every other node cleanly and fail.
+    Stop,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct CaveMasterArgs {
+    /// The scene every node renders (nodes of another scene are refused).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Address to listen on for nodes.
+    #[arg(long, default_value = DEFAULT_CAVE_ADDRESS)]
+    pub listen: String,
+    /// How many nodes the run waits for before its first frame.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=64))]
+    pub nodes: u32,
+    /// Frames to run.
+    #[arg(long, default_value_t = 300, allow_negative_numbers = true)]
+    pub frames: u64,
+    /// Tracked samples, one line per frame: head RIGHT UP BACK in half-sizes, and optionally
+    /// the first light's world position X Y Z (see src/cave/path.rs).
+    #[arg(long, value_name = "FILE")]
+    pub path: Option<PathBuf>,
+    /// Without --path: the tracked head relative to the CAVE's centre, in half wall sizes.
+    #[arg(long, default_value = "0.2,0.1,0.3", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub head: glam::Vec3,
+    /// The CAVE's wall size as a fraction of the scene's diagonal.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.2)]
+    pub cave_size: f32,
+    /// Seconds to wait for all nodes to join.
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    pub join_timeout: f64,
+    /// Seconds a node may stay silent before it counts as lost.
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    pub node_timeout: f64,
+    /// What to do when a node is lost.
+    #[arg(long, value_enum, default_value_t = OnLoss::Continue)]
+    pub on_loss: OnLoss,
+    /// Write the run's per-frame sync times and lattice digests as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub report: Option<PathBuf>,
+    /// Print a line per frame (sync latency and frame-lock wait).
+    #[arg(long)]
+    pub log_frames: bool,
+    #[command(flatten)]
+    pub gi: GiArgs,
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct CaveNodeArgs {
+    /// The scene (the master refuses a node whose scene differs from its own).
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// The master's address.
+    #[arg(long, default_value = DEFAULT_CAVE_ADDRESS)]
+    pub master: String,
+    /// The wall this node draws.
+    #[arg(long, value_enum)]
+    pub wall: crate::view::cave::WallName,
+    /// On stopping, save the wall as PREFIX-WALL.png and PREFIX-WALL.exr.
+    #[arg(long, value_name = "PREFIX")]
+    pub screenshot: Option<PathBuf>,
+    /// Seconds to keep trying to reach the master (a node may start first).
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    pub connect_timeout: f64,
+    /// Seconds to wait for the master's next message before giving up on it.
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    pub master_timeout: f64,
+    #[command(flatten)]
+    pub frame: FrameArgs,
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

@@ -6,7 +6,7 @@ mod compare;
 pub mod limits;
 pub mod method;
 pub mod method_args;
-mod output;
+pub(crate) mod output;
 pub mod profile;
 pub mod progress;
 mod reference;
@@ -27,6 +27,8 @@ pub fn run(command: &Command) -> anyhow::Result<()> {
         Command::Profile(args) => profile::run_command(args),
         Command::Report(args) => report::run_command(args),
         Command::Scene(args) => scene::run(args),
+        Command::CaveMaster(args) => crate::cave::master::run(args),
+        Command::CaveNode(args) => crate::cave::node::run(args),
     }
 }
 

@@ -18,6 +18,8 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::raw_window_handle::HasDisplayHandle;
 use winit::window::{Window, WindowId};
 
+use crate::cave::Pose;
+use crate::cave::path::TrackedPath;
 use crate::gi::GiMethod;
 use crate::gi::registry::{self, MethodEntry};
 use crate::gi::settings::{Setting, Settings};
@@ -92,6 +94,13 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     if !(args.cave_size.is_finite() && args.cave_size > 0.0 && args.cave_size <= 100.0) {
         crate::bad_input!("--cave-size must be in (0, 100]");
     }
+    let tracked = args.path.as_deref().map(TrackedPath::load).transpose()?;
+    if tracked.as_ref().is_some_and(TrackedPath::moves_light) && scene.lights.is_empty() {
+        crate::bad_input!(
+            "the path moves the first light, but scene '{}' has no point or spot light",
+            scene.name
+        );
+    }
     let (width, height) = args.frame.size;
     let limit = crate::render::MAX_IMAGE_SIDE;
     if width == 0 || height == 0 || width > limit || height > limit {
@@ -106,6 +115,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let mut app = ViewApp {
         args: args.clone(),
         scene: Some(scene),
+        tracked,
         running: None,
         error: None,
     };
@@ -120,6 +130,8 @@ struct ViewApp {
     args: ViewArgs,
     /// The scene until the window opens (then it moves into `running`).
     scene: Option<Scene>,
+    /// `--path`'s samples until the window opens.
+    tracked: Option<TrackedPath>,
     running: Option<Running>,
     error: Option<anyhow::Error>,
 }
@@ -155,7 +167,7 @@ impl ApplicationHandler for ViewApp {
         let Some(scene) = self.scene.take() else {
             return;
         };
-        match Running::new(event_loop, &self.args, scene) {
+        match Running::new(event_loop, &self.args, scene, self.tracked.take()) {
             Ok(running) => self.running = Some(running),
             Err(e) => self.fail(event_loop, e),
         }
@@ -242,6 +254,9 @@ struct Running {
     scene: Scene,
     fly: FlyCamera,
     cave: Option<Cave>,
+    /// `--path`: the tracked samples, and the pose last applied from them.
+    tracked: Option<TrackedPath>,
+    pose: Option<Pose>,
     /// The method shown (None: direct light only).
     method: Option<&'static MethodEntry>,
     /// Every registered method's settings (the user's flags applied), kept across switches.
@@ -269,7 +284,12 @@ struct Running {
 }
 
 impl Running {
-    fn new(event_loop: &ActiveEventLoop, args: &ViewArgs, scene: Scene) -> anyhow::Result<Self> {
+    fn new(
+        event_loop: &ActiveEventLoop,
+        args: &ViewArgs,
+        scene: Scene,
+        tracked: Option<TrackedPath>,
+    ) -> anyhow::Result<Self> {
         let (width, height) = args.frame.size;
         let windows = if args.cave_windows { 4 } else { 1 };
         let mut handles = Vec::new();
@@ -294,17 +314,15 @@ impl Running {
         for window in handles {
             outputs.push(Output::new(&gpu, window, !args.no_vsync, FRAMES_IN_FLIGHT)?);
         }
-        let extent = (scene.bounds_max - scene.bounds_min).length();
-        let mut fly = FlyCamera::new(scene.camera, extent);
-        let cave = args
-            .cave
-            .then(|| Cave::placed(&scene, args.cave_size, args.head));
-        if let Some(cave) = &cave {
-            // The CAVE's viewer stands where the CAVE was placed, facing the camera's way;
-            // the fly camera carries the CAVE from there.
-            fly.camera.position = cave.center;
-            fly.camera.target = cave.center + cave.forward;
-        }
+        // The CAVE's viewer stands where the CAVE was placed, facing the camera's way; the
+        // fly camera carries the CAVE from there.
+        let (cave, fly) = if args.cave {
+            let (cave, fly) = Cave::placed_with_fly(&scene, args.cave_size, args.head);
+            (Some(cave), fly)
+        } else {
+            let extent = (scene.bounds_max - scene.bounds_min).length();
+            (None, FlyCamera::new(scene.camera, extent))
+        };
         let mut scene = scene;
         let movables = scene.movables();
         let frame = Frame::new(&gpu, &scene, args.frame.options())?;
@@ -327,6 +345,8 @@ impl Running {
             scene,
             fly,
             cave,
+            tracked,
+            pose: None,
             method: chosen.map(|c| c.entry),
             settings,
             status: String::new(),
@@ -445,8 +465,7 @@ impl Running {
         match &mut self.cave {
             None => vec![Eye::from_camera(&self.fly.camera, &self.scene, w, h)],
             Some(cave) => {
-                cave.center = self.fly.camera.position;
-                cave.forward = horizontal(self.fly.forward());
+                cave.follow(&self.fly);
                 cave.eyes(&self.scene)
             }
         }
@@ -579,6 +598,17 @@ impl Running {
         Ok(())
     }
 
+    /// Apply this frame's tracked sample (`--path`), as a CAVE master's node applies it.
+    fn follow_path(&mut self) {
+        let (Some(path), Some(cave)) = (&self.tracked, &mut self.cave) else {
+            return;
+        };
+        let pose = path.at(self.frames_shown);
+        let changes = crate::cave::updates(self.pose.as_ref(), &pose);
+        crate::cave::apply(&changes, &mut self.scene, &mut self.frame, cave);
+        self.pose = Some(pose);
+    }
+
     /// Pose the dynamic objects for the frame about to be drawn (their paths, and the arrow
     /// keys' nudges) and let the frame and the GI method follow them (`runner::follow`: the
     /// method is made again where it cannot follow).
@@ -622,6 +652,7 @@ impl Running {
         if let Some(code) = scripted {
             self.held.remove(&code);
         }
+        self.follow_path();
         self.pose_dynamic()?;
         if self.minimised() {
             return Ok(Flow::Continue); // the swapchain is rebuilt once the window has an area
@@ -832,6 +863,25 @@ impl Running {
             },
             size,
         )?;
+        if let Some(cave) = &self.cave {
+            for (index, wall) in cave.walls().iter().enumerate() {
+                let view = &self.frame.views[index];
+                let size = (view.width(), view.height());
+                output::write_images(
+                    Some(&with(&format!("-{}.png", wall.name))),
+                    Some(&with(&format!("-{}.exr", wall.name))),
+                    || Ok(self.frame.read_view_ldr(&self.gpu, index)?),
+                    || {
+                        Ok(HdrImage::new(
+                            size.0,
+                            size.1,
+                            self.frame.read_view_hdr(&self.gpu, index)?,
+                        ))
+                    },
+                    size,
+                )?;
+            }
+        }
         let composed = &self.outputs[0].composed;
         let window_size = (composed.width(), composed.height());
         output::write_images(
@@ -883,11 +933,6 @@ fn help_lines(settings: Option<&Settings>) -> Vec<String> {
         lines.push(keys.join("    "));
     }
     lines
-}
-
-/// A unit horizontal direction close to `v` (the CAVE stands upright).
-fn horizontal(v: Vec3) -> Vec3 {
-    Vec3::new(v.x, 0.0, v.z).normalize_or(Vec3::NEG_Z)
 }
 
 #[cfg(test)]

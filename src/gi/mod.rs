@@ -188,6 +188,13 @@ pub trait GiMethod {
     fn status(&self) -> Option<String> {
         None
     }
+
+    /// A digest of the light state the method carries into the next frame and looks up (the
+    /// nodes of a CAVE compare theirs frame by frame; None: the method carries none). Reads
+    /// GPU buffers back: call it between frames, after the last one finished.
+    fn state_digest(&self, _gpu: &Gpu) -> GpuResult<Option<u64>> {
+        Ok(None)
+    }
 }
 
 /// Declares each method's module and registers its entries: one line per method.

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::{ReferenceImages, ReferenceSettings};
+use crate::digest::{FNV_OFFSET, fnv1a};
 use crate::imageio::{self, HdrImage};
 use crate::scene::Scene;
 
@@ -33,16 +34,6 @@ pub struct CacheRecord {
 
 /// Bumped whenever the estimator's meaning changes without the shader changing.
 const ESTIMATOR_VERSION: &str = "vkgi-reference-1";
-
-fn fnv1a(bytes: impl IntoIterator<Item = u8>, mut hash: u64) -> u64 {
-    for b in bytes {
-        hash ^= u64::from(b);
-        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    hash
-}
-
-const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 pub fn code_version() -> String {
     let h = fnv1a(

@@ -448,7 +448,12 @@ impl Frame {
 
     /// The first view's tone-mapped sRGB output, RGBA8 per pixel.
     pub fn read_ldr(&self, gpu: &Gpu) -> GpuResult<Vec<u8>> {
-        gpu.read_image(&self.view().ldr)
+        self.read_view_ldr(gpu, 0)
+    }
+
+    /// A view's tone-mapped sRGB output, RGBA8 per pixel.
+    pub fn read_view_ldr(&self, gpu: &Gpu, view: usize) -> GpuResult<Vec<u8>> {
+        gpu.read_image(&self.views[view].ldr)
     }
 
     /// The first view's G-buffer world positions (w = 0 for background), for tests and masks.

@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3, Vec4};
 
 use crate::render::Eye;
 use crate::scene::Scene;
+use crate::view::fly::FlyCamera;
 
 /// A wall: its lower-left corner and the vectors along its bottom and left edges, as seen
 /// from inside the cube.
@@ -15,6 +16,28 @@ pub struct Wall {
     pub corner: Vec3,
     pub right: Vec3,
     pub up: Vec3,
+}
+
+/// A wall's name, as `vkgi cave-node --wall` takes it.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WallName {
+    Front,
+    Left,
+    Right,
+    Floor,
+    Back,
+    Ceiling,
+}
+
+impl WallName {
+    /// The wall's index in [`Cave::all_walls`] (the first four are [`Cave::walls`]).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    pub fn name(self) -> &'static str {
+        ["front", "left", "right", "floor", "back", "ceiling"][self.index()]
+    }
 }
 
 /// Tiles across and down in the window of a tiled CAVE.
@@ -59,8 +82,33 @@ impl Cave {
         }
     }
 
-    /// The walls in view order: front, left, right, floor.
+    /// A CAVE placed as [`Cave::placed`] does, and the fly camera that carries it: standing at
+    /// its centre, looking the way its front wall faces. The viewer and every render node of
+    /// a cluster make their CAVE this way, so all of them draw the same walls.
+    pub fn placed_with_fly(scene: &Scene, size: f32, head_offset: Vec3) -> (Cave, FlyCamera) {
+        let extent = (scene.bounds_max - scene.bounds_min).length();
+        let mut fly = FlyCamera::new(scene.camera, extent);
+        let cave = Cave::placed(scene, size, head_offset);
+        fly.camera.position = cave.center;
+        fly.camera.target = cave.center + cave.forward;
+        (cave, fly)
+    }
+
+    /// Carry the CAVE where `fly` stands, upright, facing the way it looks.
+    pub fn follow(&mut self, fly: &FlyCamera) {
+        self.center = fly.camera.position;
+        self.forward = horizontal(fly.forward());
+    }
+
+    /// The walls in view order: front, left, right, floor (the single-process CAVE's).
     pub fn walls(&self) -> [Wall; 4] {
+        let [front, left, right, floor, _, _] = self.all_walls();
+        [front, left, right, floor]
+    }
+
+    /// The six walls of the cube, in [`WallName`] order: front, left, right, floor, back,
+    /// ceiling.
+    pub fn all_walls(&self) -> [Wall; 6] {
         let (c, h) = (self.center, self.half_size);
         let f = self.forward;
         let r = f.cross(Vec3::Y).normalize();
@@ -90,6 +138,18 @@ impl Cave {
                 right: r * 2.0 * h,
                 up: f * 2.0 * h,
             },
+            Wall {
+                name: "back",
+                corner: c + (r - f - u) * h,
+                right: -r * 2.0 * h,
+                up: u * 2.0 * h,
+            },
+            Wall {
+                name: "ceiling",
+                corner: c + (u - r + f) * h,
+                right: r * 2.0 * h,
+                up: -f * 2.0 * h,
+            },
         ]
     }
 
@@ -102,19 +162,29 @@ impl Cave {
 
     /// One eye per wall, from the head, with clip planes enclosing the scene.
     pub fn eyes(&self, scene: &Scene) -> Vec<Eye> {
+        self.walls()
+            .iter()
+            .map(|wall| self.eye(scene, wall))
+            .collect()
+    }
+
+    /// The eye of the head looking through `wall`.
+    pub fn eye(&self, scene: &Scene, wall: &Wall) -> Eye {
         let head = self.head();
         let (lo, hi) = (scene.bounds_min, scene.bounds_max);
         let extent = (hi - lo).length().max(1e-3);
         let far = (0.5 * (lo + hi) - head).length() + extent;
         let near = (extent * 1e-3).min(far * 1e-3);
-        self.walls()
-            .iter()
-            .map(|wall| Eye {
-                view_projection: off_axis(head, wall, near, far),
-                position: head,
-            })
-            .collect()
+        Eye {
+            view_projection: off_axis(head, wall, near, far),
+            position: head,
+        }
     }
+}
+
+/// A unit horizontal direction close to `v` (the CAVE stands upright).
+fn horizontal(v: Vec3) -> Vec3 {
+    Vec3::new(v.x, 0.0, v.z).normalize_or(Vec3::NEG_Z)
 }
 
 /// How far along `direction` a ray from `origin` enters the box `[lo, hi]`, if it does.
@@ -185,7 +255,7 @@ mod tests {
     #[test]
     fn every_wall_maps_its_corners_to_the_image_corners_from_an_offset_head() {
         let c = cave(Vec3::new(0.3, -0.2, 0.4));
-        for wall in c.walls() {
+        for wall in c.all_walls() {
             let m = off_axis(c.head(), &wall, 0.01, 100.0);
             let ndc = |p: Vec3| {
                 let clip = m * p.extend(1.0);

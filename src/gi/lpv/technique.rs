@@ -1040,6 +1040,16 @@ impl Lpv {
         Ok([read(r)?, read(g)?, read(b)?])
     }
 
+    /// A digest of the lattices carried to the next frame and of those the lookup reads.
+    pub fn digest(&self, gpu: &Gpu, hash: u64) -> GpuResult<u64> {
+        let carried = [0, 1, 2].map(|c| &self.lattices[c][self.result]);
+        let mut hash = hash;
+        for buffer in carried.into_iter().chain(self.result_lattices()) {
+            hash = crate::digest::fnv1a(gpu.read_buffer(buffer)?, hash);
+        }
+        Ok(hash)
+    }
+
     /// Threads to dispatch for a lattice: whole tiles (every tile loads its own halo).
     fn dispatch_threads(&self, dims: [u32; 3]) -> [u32; 3] {
         [0, 1, 2].map(|i| dims[i].div_ceil(self.tile[i]) * self.tile[i])
@@ -1158,6 +1168,10 @@ impl GiMethod for Lpv {
             Scheme::Lpv => "lpv",
             Scheme::Ilpv => "ilpv",
         }
+    }
+
+    fn state_digest(&self, gpu: &Gpu) -> GpuResult<Option<u64>> {
+        self.digest(gpu, crate::digest::FNV_OFFSET).map(Some)
     }
 
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {

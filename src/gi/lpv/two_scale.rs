@@ -59,6 +59,11 @@ impl GiMethod for TwoScale {
         self.near.name()
     }
 
+    fn state_digest(&self, gpu: &Gpu) -> GpuResult<Option<u64>> {
+        let near = self.near.digest(gpu, crate::digest::FNV_OFFSET)?;
+        self.far.digest(gpu, near).map(Some)
+    }
+
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
         self.near.record_light(rec, ctx)?;
         let rsm = self

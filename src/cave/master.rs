@@ -1,0 +1,417 @@
+//! `vkgi cave-master`: waits for its nodes, then runs the frames. Each frame it sends every node
+//! the parameter updates since the last (a new version when anything changed), waits until all
+//! hold them (the parameter-sync latency) and all finished the frame, and only then releases
+//! the next: the frame lock. It needs no GPU: the nodes render.
+
+use std::net::TcpListener;
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use serde::Serialize;
+
+use super::path::TrackedPath;
+use super::protocol::{self, Link, LinkError, MasterMessage, NodeMessage};
+use super::{Pose, updates};
+use crate::app::cli::{CaveMasterArgs, OnLoss};
+use crate::app::method;
+use crate::scene::Scene;
+
+/// A node that joined.
+struct Node {
+    wall: String,
+    link: Link,
+}
+
+/// One frame as the master saw it.
+#[derive(Serialize)]
+struct FrameRecord {
+    frame: u64,
+    version: u64,
+    /// Send to the last node's acknowledgement of the frame's parameters, in milliseconds.
+    sync_ms: f64,
+    /// The longest wait of any node for this frame after it finished the last.
+    lock_wait_ms: f64,
+    /// The slowest node's GPU time for the frame.
+    render_ms: f64,
+    /// Wall and lattice digest of every node that finished the frame.
+    lattices: Vec<(String, Option<String>)>,
+}
+
+#[derive(Serialize)]
+struct Report {
+    scene: String,
+    method: String,
+    settings: Vec<(String, String)>,
+    walls: Vec<String>,
+    lost: Vec<String>,
+    frames: Vec<FrameRecord>,
+    /// Frames whose nodes' lattice digests were not all equal.
+    differing_frames: Vec<u64>,
+}
+
+pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
+    let seconds = |value: f64, flag: &str| -> anyhow::Result<Duration> {
+        if !(value.is_finite() && value > 0.0 && value <= 86_400.0) {
+            crate::bad_input!("--{flag} must be in (0, 86400] seconds");
+        }
+        Ok(Duration::from_secs_f64(value))
+    };
+    let join_timeout = seconds(args.join_timeout, "join-timeout")?;
+    let node_timeout = seconds(args.node_timeout, "node-timeout")?;
+    if args.frames == 0 {
+        crate::bad_input!("--frames must be at least 1");
+    }
+    if !(args.cave_size.is_finite() && args.cave_size > 0.0 && args.cave_size <= 100.0) {
+        crate::bad_input!("--cave-size must be in (0, 100]");
+    }
+    if args.head.abs().max_element() > 1.0 {
+        crate::bad_input!("--head {} leaves the CAVE (each within ±1)", args.head);
+    }
+    if let Some(report) = &args.report {
+        crate::imageio::check_destination(report)?;
+    }
+    let scene = Scene::load(&args.scene)?;
+    let path = args.path.as_deref().map(TrackedPath::load).transpose()?;
+    if path.as_ref().is_some_and(TrackedPath::moves_light) && scene.lights.is_empty() {
+        crate::bad_input!(
+            "the path moves the first light, but scene '{}' has no point or spot light",
+            scene.name
+        );
+    }
+    let settings = deterministic(&args.gi.method, &args.gi.settings.values)?;
+    let scene_digest = crate::reference::cache::scene_hash(&scene);
+
+    let listener = TcpListener::bind(&args.listen).map_err(|e| {
+        crate::error::InputError::new(format!("cannot listen on {}: {e}", args.listen))
+    })?;
+    println!(
+        "cave-master: listening on {} for {} node(s)",
+        listener.local_addr()?,
+        args.nodes
+    );
+    let welcome = MasterMessage::Welcome {
+        method: args.gi.method.clone(),
+        settings: settings.clone(),
+        cave_size: args.cave_size,
+    };
+    let mut nodes = join(&listener, args, &scene_digest, &welcome, join_timeout)?;
+    let mut report = Report {
+        scene: scene.name.clone(),
+        method: args.gi.method.clone(),
+        settings,
+        walls: nodes.iter().map(|n| n.wall.clone()).collect(),
+        lost: Vec::new(),
+        frames: Vec::new(),
+        differing_frames: Vec::new(),
+    };
+
+    let mut sent: Option<Pose> = None;
+    let mut version = 0u64;
+    let (mut last_sync, mut last_wait) = (0.0, 0.0);
+    for frame in 0..args.frames {
+        let pose = match &path {
+            Some(path) => path.at(frame),
+            None => Pose {
+                head: args.head,
+                light: None,
+            },
+        };
+        let changes = updates(sent.as_ref(), &pose);
+        let since = version;
+        if !changes.is_empty() {
+            version += 1;
+        }
+        sent = Some(pose);
+        let message = MasterMessage::Frame {
+            frame,
+            since,
+            version,
+            updates: changes,
+            sync_ms: last_sync,
+            lock_wait_ms: last_wait,
+        };
+        let start = Instant::now();
+        let mut lost = Vec::new();
+        for (i, node) in nodes.iter_mut().enumerate() {
+            if let Err(e) = node.link.send(&message) {
+                lost.push((i, e.to_string()));
+            }
+        }
+        // Every node acknowledges the parameters before it renders, then reports the frame.
+        let mut sync_ms = 0.0f64;
+        for (i, node) in nodes.iter_mut().enumerate() {
+            if lost.iter().any(|(l, _)| *l == i) {
+                continue;
+            }
+            match expect_applied(&mut node.link, frame, version, node_timeout) {
+                Ok(()) => sync_ms = sync_ms.max(start.elapsed().as_secs_f64() * 1e3),
+                Err(e) => lost.push((i, e)),
+            }
+        }
+        let mut record = FrameRecord {
+            frame,
+            version,
+            sync_ms,
+            lock_wait_ms: 0.0,
+            render_ms: 0.0,
+            lattices: Vec::new(),
+        };
+        for (i, node) in nodes.iter_mut().enumerate() {
+            if lost.iter().any(|(l, _)| *l == i) {
+                continue;
+            }
+            match expect_finished(&mut node.link, frame, version, node_timeout) {
+                Ok((lattice, wait, render)) => {
+                    record.lock_wait_ms = record.lock_wait_ms.max(wait);
+                    record.render_ms = record.render_ms.max(render);
+                    record
+                        .lattices
+                        .push((node.wall.clone(), lattice.map(|d| format!("{d:016x}"))));
+                }
+                Err(e) => lost.push((i, e)),
+            }
+        }
+        let first = record.lattices.first().map(|(_, d)| d.clone());
+        if record
+            .lattices
+            .iter()
+            .any(|(_, d)| Some(d) != first.as_ref())
+        {
+            report.differing_frames.push(frame);
+        }
+        if args.log_frames {
+            println!(
+                "cave-master: frame {frame} (version {version}): sync {:.3} ms, lock wait {:.3} ms, slowest render {:.3} ms",
+                record.sync_ms, record.lock_wait_ms, record.render_ms
+            );
+        }
+        (last_sync, last_wait) = (record.sync_ms, record.lock_wait_ms);
+        report.frames.push(record);
+        lost.sort_by_key(|(i, _)| std::cmp::Reverse(*i));
+        for (i, why) in lost {
+            let node = nodes.remove(i);
+            println!(
+                "cave-master: lost the {} wall at frame {frame}: {why}",
+                node.wall
+            );
+            report.lost.push(node.wall);
+        }
+        if !report.lost.is_empty() && args.on_loss == OnLoss::Stop {
+            stop(
+                &mut nodes,
+                "the master stops: a wall was lost",
+                node_timeout,
+            );
+            write_report(args, &report)?;
+            anyhow::bail!("stopped after losing the {} wall", report.lost.join(", "));
+        }
+        if nodes.is_empty() {
+            write_report(args, &report)?;
+            anyhow::bail!("every node was lost by frame {frame}");
+        }
+    }
+    stop(&mut nodes, "all frames done", node_timeout);
+    write_report(args, &report)?;
+    summarise(&report, args.frames);
+    Ok(())
+}
+
+/// The method's settings for every node, with the deterministic injection where the method has
+/// one and the user did not choose (float atomics would let the nodes' lattices drift apart).
+fn deterministic(
+    method_name: &str,
+    overrides: &[(String, String)],
+) -> anyhow::Result<Vec<(String, String)>> {
+    let mut settings = overrides.to_vec();
+    if let Some(chosen) = method::choose(method_name, overrides)?
+        && chosen.settings.has("injection")
+        && !overrides.iter().any(|(name, _)| name == "injection")
+    {
+        settings.push(("injection".into(), "fixed".into()));
+    }
+    Ok(settings)
+}
+
+/// Accept nodes until `args.nodes` joined: each says hello, and is refused (with the reason,
+/// in one line on both ends) if its build or scene differs or its wall is taken.
+fn join(
+    listener: &TcpListener,
+    args: &CaveMasterArgs,
+    scene_digest: &str,
+    welcome: &MasterMessage,
+    timeout: Duration,
+) -> anyhow::Result<Vec<Node>> {
+    listener.set_nonblocking(true)?;
+    let deadline = Instant::now() + timeout;
+    let mut nodes: Vec<Node> = Vec::new();
+    while nodes.len() < args.nodes as usize {
+        let stream = match listener.accept() {
+            Ok((stream, _)) => stream,
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                if Instant::now() >= deadline {
+                    let joined: Vec<String> = nodes.iter().map(|n| n.wall.clone()).collect();
+                    stop(&mut nodes, "the run did not start", Duration::from_secs(1));
+                    anyhow::bail!(
+                        "only {} of {} node(s) joined within {:.0} s (walls: {})",
+                        joined.len(),
+                        args.nodes,
+                        timeout.as_secs_f64(),
+                        if joined.is_empty() {
+                            "none".to_string()
+                        } else {
+                            joined.join(", ")
+                        }
+                    );
+                }
+                std::thread::sleep(Duration::from_millis(5));
+                continue;
+            }
+            Err(e) => return Err(e).context("accepting a node"),
+        };
+        stream.set_nonblocking(false)?;
+        let mut link = Link::new(stream)?;
+        let hello = match link.receive::<NodeMessage>(Duration::from_secs(10)) {
+            Ok(hello) => hello,
+            Err(e) => {
+                println!("cave-master: a connection said no hello: {e}");
+                continue;
+            }
+        };
+        let NodeMessage::Hello {
+            build,
+            wall,
+            scene,
+            scene_name,
+        } = hello
+        else {
+            println!("cave-master: a connection began without a hello: refused");
+            continue;
+        };
+        let refusal = if build != protocol::build() {
+            Some(format!(
+                "its build is '{build}', the master's '{}'",
+                protocol::build()
+            ))
+        } else if scene != scene_digest {
+            Some(format!(
+                "its scene '{scene_name}' (digest {scene}) is not the master's '{}' (digest {scene_digest})",
+                args.scene
+            ))
+        } else if nodes.iter().any(|n| n.wall == wall) {
+            Some(format!("the {wall} wall is taken"))
+        } else {
+            None
+        };
+        if let Some(reason) = refusal {
+            println!("cave-master: refused the {wall} node: {reason}");
+            let _ = link.send(&MasterMessage::Refused { reason });
+            continue;
+        }
+        link.send(welcome)?;
+        nodes.push(Node { wall, link });
+        println!(
+            "cave-master: the {} wall joined ({} of {})",
+            nodes.last().map_or("", |n| n.wall.as_str()),
+            nodes.len(),
+            args.nodes
+        );
+    }
+    Ok(nodes)
+}
+
+fn expect_applied(
+    link: &mut Link,
+    frame: u64,
+    version: u64,
+    timeout: Duration,
+) -> Result<(), String> {
+    match link.receive::<NodeMessage>(timeout) {
+        Ok(NodeMessage::Applied {
+            frame: f,
+            version: v,
+        }) if (f, v) == (frame, version) => Ok(()),
+        Ok(other) => Err(format!(
+            "it answered {other:?} to frame {frame} (version {version})"
+        )),
+        Err(e) => Err(describe(e)),
+    }
+}
+
+fn expect_finished(
+    link: &mut Link,
+    frame: u64,
+    version: u64,
+    timeout: Duration,
+) -> Result<(Option<u64>, f64, f64), String> {
+    match link.receive::<NodeMessage>(timeout) {
+        Ok(NodeMessage::Finished {
+            frame: f,
+            version: v,
+            lattice,
+            lock_wait_ms,
+            render_ms,
+        }) if (f, v) == (frame, version) => Ok((lattice, lock_wait_ms, render_ms)),
+        Ok(other) => Err(format!(
+            "it answered {other:?} while finishing frame {frame}"
+        )),
+        Err(e) => Err(describe(e)),
+    }
+}
+
+fn describe(error: LinkError) -> String {
+    match error {
+        LinkError::Timeout(s) => format!("it stopped answering (nothing for {s:.1} s)"),
+        LinkError::Closed => "its connection closed (the node died or quit)".into(),
+        other => other.to_string(),
+    }
+}
+
+/// Tell every node to stop, and wait (at most `timeout` each) until it closed its end, so the
+/// master exits after its nodes saved what they were asked to.
+fn stop(nodes: &mut Vec<Node>, reason: &str, timeout: Duration) {
+    for node in nodes.iter_mut() {
+        let _ = node.link.send(&MasterMessage::Stop {
+            reason: reason.into(),
+        });
+    }
+    for node in nodes.iter_mut() {
+        while node.link.receive::<NodeMessage>(timeout).is_ok() {}
+    }
+    nodes.clear();
+}
+
+fn write_report(args: &CaveMasterArgs, report: &Report) -> anyhow::Result<()> {
+    if let Some(path) = &args.report {
+        crate::imageio::write_text(path, &serde_json::to_string_pretty(report)?)?;
+    }
+    Ok(())
+}
+
+fn summarise(report: &Report, frames: u64) {
+    let median = |mut values: Vec<f64>| {
+        values.sort_by(f64::total_cmp);
+        values.get(values.len() / 2).copied().unwrap_or(0.0)
+    };
+    let sync = median(report.frames.iter().map(|f| f.sync_ms).collect());
+    let wait = median(report.frames.iter().map(|f| f.lock_wait_ms).collect());
+    let lattices = if report
+        .frames
+        .iter()
+        .all(|f| f.lattices.iter().all(|(_, d)| d.is_none()))
+    {
+        "the method carries no lattice".to_string()
+    } else if report.differing_frames.is_empty() {
+        "lattices bit-identical on every frame".to_string()
+    } else {
+        format!(
+            "lattices differed on {} frame(s), first {}",
+            report.differing_frames.len(),
+            report.differing_frames[0]
+        )
+    };
+    println!(
+        "cave-master: {frames} frames on {} node(s) ({} lost); parameter sync median {sync:.3} ms, frame-lock wait median {wait:.3} ms; {lattices}",
+        report.walls.len() - report.lost.len(),
+        report.lost.len()
+    );
+}
