@@ -94,7 +94,25 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         settings: settings.clone(),
         cave_size: args.cave_size,
     };
+    let joined = Instant::now();
     let mut nodes = join(&listener, args, &scene_digest, &welcome, join_timeout)?;
+    let mut lost_at_setup = Vec::new();
+    for node in &mut nodes {
+        // Setting up a device and a method takes seconds: the join timeout covers it.
+        let left = join_timeout
+            .saturating_sub(joined.elapsed())
+            .max(node_timeout);
+        match node.link.receive::<NodeMessage>(left) {
+            Ok(NodeMessage::Ready) => {}
+            Ok(other) => lost_at_setup.push((node.wall.clone(), format!("it answered {other:?}"))),
+            Err(e) => lost_at_setup.push((node.wall.clone(), describe(e))),
+        }
+    }
+    if let Some((wall, why)) = lost_at_setup.first() {
+        stop(&mut nodes, "a node failed to set up", node_timeout);
+        anyhow::bail!("the {wall} node did not get ready: {why}");
+    }
+    println!("cave-master: {} node(s) ready", nodes.len());
     let mut report = Report {
         scene: scene.name.clone(),
         method: args.gi.method.clone(),

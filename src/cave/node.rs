@@ -91,6 +91,7 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         None => anyhow::bail!("no GI method to build"),
     };
     let mut ring = FrameRing::new(&gpu, FRAMES_IN_FLIGHT)?;
+    link.send(&NodeMessage::Ready)?;
     println!("{tag}: joined; rendering {side}x{side} with {method_name}");
 
     let mut version = 0u64;

@@ -33,6 +33,8 @@ pub enum NodeMessage {
         scene: String,
         scene_name: String,
     },
+    /// The node set up its device, frame and GI method: it can render.
+    Ready,
     /// The node holds the parameters of `version` (sent at once, before rendering: the master's
     /// parameter-sync latency is the round trip to the last of these).
     Applied { frame: u64, version: u64 },

@@ -1,0 +1,389 @@
+//! The CAVE over several processes (issue 17, spec 000 §11): a `vkgi cave-master` and
+//! `vkgi cave-node`s on loopback, validation on in every node. Every wait has a deadline and
+//! every child is killed if a test fails, so nothing hangs the suite.
+
+use std::io::{BufRead, BufReader};
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc::{Receiver, channel};
+use std::time::{Duration, Instant};
+
+mod common;
+
+/// Longest any process of a test may take.
+const DEADLINE: Duration = Duration::from_secs(300);
+
+/// A child process whose stdout lines arrive on a channel; killed when dropped.
+struct Process {
+    child: Child,
+    lines: Receiver<String>,
+    seen: Vec<String>,
+}
+
+impl Process {
+    fn start(args: &[&str]) -> Process {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_vkgi"))
+            .args(args)
+            .env("VKGI_VALIDATE", "1")
+            .env("RUST_BACKTRACE", "0")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the vkgi binary runs");
+        let (send, lines) = channel();
+        let stdout = child.stdout.take().unwrap();
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines().map_while(Result::ok) {
+                if send.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        Process {
+            child,
+            lines,
+            seen: Vec::new(),
+        }
+    }
+
+    /// The first stdout line containing `needle` (waiting at most the deadline).
+    fn wait_for(&mut self, needle: &str) -> String {
+        let end = Instant::now() + DEADLINE;
+        loop {
+            let left = end.saturating_duration_since(Instant::now());
+            match self.lines.recv_timeout(left) {
+                Ok(line) => {
+                    self.seen.push(line.clone());
+                    if line.contains(needle) {
+                        return line;
+                    }
+                }
+                Err(_) => panic!("no line with '{needle}'; saw {:#?}", self.seen),
+            }
+        }
+    }
+
+    /// Wait for the exit: (code, every stdout line, stderr).
+    fn finish(mut self) -> (Option<i32>, Vec<String>, String) {
+        let end = Instant::now() + DEADLINE;
+        let status = loop {
+            if let Some(status) = self.child.try_wait().unwrap() {
+                break status;
+            }
+            assert!(Instant::now() < end, "still running after {DEADLINE:?}");
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let mut stderr = String::new();
+        if let Some(mut pipe) = self.child.stderr.take() {
+            std::io::Read::read_to_string(&mut pipe, &mut stderr).unwrap();
+        }
+        let mut lines = std::mem::take(&mut self.seen);
+        while let Ok(line) = self.lines.recv_timeout(Duration::from_secs(5)) {
+            lines.push(line);
+        }
+        (status.code(), lines, stderr)
+    }
+
+    fn signal(&self, signal: &str) {
+        let status = Command::new("kill")
+            .args([signal, &self.child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(status.success());
+    }
+}
+
+impl Drop for Process {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A master on a free loopback port; its address.
+fn master(args: &[&str]) -> (Process, String) {
+    let mut all = vec!["cave-master", "--listen", "127.0.0.1:0"];
+    all.extend_from_slice(args);
+    let mut master = Process::start(&all);
+    let line = master.wait_for("listening on");
+    let address = line
+        .split_whitespace()
+        .nth(3)
+        .expect("listening on ADDRESS")
+        .to_string();
+    (master, address)
+}
+
+fn node(address: &str, wall: &str, prefix: &Path, extra: &[&str]) -> Process {
+    let prefix = prefix.to_string_lossy().into_owned();
+    let mut args = vec![
+        "cave-node",
+        "--master",
+        address,
+        "--wall",
+        wall,
+        "--size",
+        "48x48",
+        "--screenshot",
+        &prefix,
+    ];
+    args.extend_from_slice(extra);
+    Process::start(&args)
+}
+
+/// A node ran to the end: exit 0, no validation message.
+fn assert_clean(name: &str, (code, lines, stderr): &(Option<i32>, Vec<String>, String)) {
+    assert_eq!(*code, Some(0), "{name}: {lines:#?}\n{stderr}");
+    assert!(!stderr.contains("validation:"), "{name}: {stderr}");
+}
+
+/// Head and light samples: the head sways right and up, the spot light slides along x.
+fn path_file(dir: &Path, frames: usize) -> PathBuf {
+    let text: String = (0..frames)
+        .map(|f| {
+            let t = f as f32 / frames as f32;
+            format!(
+                "{:.4} {:.4} 0.3 {:.4} 0.54 0.27\n",
+                0.1 + 0.3 * t,
+                0.1 - 0.2 * t,
+                0.25 + 0.1 * t
+            )
+        })
+        .collect();
+    let path = dir.join("path.txt");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn report(path: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+/// Every frame's lattice digests: one per node, all equal and present.
+fn assert_lattices_agree(report: &serde_json::Value, nodes: usize, frames: usize) {
+    let records = report["frames"].as_array().unwrap();
+    assert!(records.len() >= frames);
+    for record in &records[..frames] {
+        let digests: Vec<&str> = record["lattices"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|pair| pair[1].as_str().expect("a lattice digest"))
+            .collect();
+        assert_eq!(digests.len(), nodes, "{record}");
+        assert!(digests.iter().all(|d| *d == digests[0]), "{record}");
+    }
+}
+
+fn hdr(path: &Path) -> Vec<u32> {
+    let image = vkgi::imageio::read_hdr(path, false).unwrap();
+    image.pixels.iter().flatten().map(|v| v.to_bits()).collect()
+}
+
+#[test]
+fn four_nodes_render_the_single_process_cave_tiles_bit_for_bit() {
+    let dir = common::cli::scratch("cave", "four");
+    let frames = 30;
+    let path = path_file(&dir, frames);
+    let report_path = dir.join("report.json");
+    let (master, address) = master(&[
+        "--nodes",
+        "4",
+        "--frames",
+        "30",
+        "--path",
+        path.to_str().unwrap(),
+        "--report",
+        report_path.to_str().unwrap(),
+    ]);
+    let walls = ["front", "left", "right", "floor"];
+    let nodes: Vec<Process> = walls
+        .iter()
+        .map(|wall| node(&address, wall, &dir.join("node"), &[]))
+        .collect();
+    let summary = master.finish();
+    assert_clean("master", &summary);
+    assert!(
+        summary
+            .1
+            .iter()
+            .any(|l| l.contains("lattices bit-identical")),
+        "{:#?}",
+        summary.1
+    );
+    for (wall, node) in walls.iter().zip(nodes) {
+        assert_clean(wall, &node.finish());
+    }
+    assert_lattices_agree(&report(&report_path), 4, frames);
+
+    // The same frames from one process: the walls tiled 3x2 in one 144x96 window (48x48 each).
+    let output = Command::new("xvfb-run")
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 1024x768x24",
+            env!("CARGO_BIN_EXE_vkgi"),
+        ])
+        .args(["view", "--cave", "--size", "144x96", "--frames", "30"])
+        .args(["--path", path.to_str().unwrap(), "--injection", "fixed"])
+        .arg("--screenshot")
+        .arg(dir.join("single"))
+        .env("VKGI_VALIDATE", "1")
+        .output()
+        .expect("xvfb-run runs (Debian package xvfb)");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("validation:"), "{stderr}");
+    for wall in walls {
+        let single = hdr(&dir.join(format!("single-{wall}.exr")));
+        let node = hdr(&dir.join(format!("node-{wall}.exr")));
+        assert_eq!(single.len(), 48 * 48 * 3, "{wall}");
+        assert!(single.iter().any(|&bits| bits != 0), "{wall} is lit");
+        assert!(
+            single == node,
+            "{wall}: the node's wall differs from the tile"
+        );
+    }
+}
+
+#[test]
+fn a_killed_node_is_named_and_the_others_finish_with_identical_lattices() {
+    let dir = common::cli::scratch("cave", "killed");
+    let report_path = dir.join("report.json");
+    let (mut master, address) = master(&[
+        "--nodes",
+        "3",
+        "--frames",
+        "20",
+        "--log-frames",
+        "--node-timeout",
+        "20",
+        "--report",
+        report_path.to_str().unwrap(),
+    ]);
+    let front = node(&address, "front", &dir.join("node"), &[]);
+    let left = node(&address, "left", &dir.join("node"), &[]);
+    let right = node(&address, "right", &dir.join("node"), &[]);
+    master.wait_for("cave-master: frame 5 ");
+    right.signal("-KILL");
+    let lost = master.wait_for("lost the");
+    assert!(
+        lost.contains("lost the right wall") && lost.contains("connection closed"),
+        "{lost}"
+    );
+    let summary = master.finish();
+    assert_clean("master", &summary);
+    assert!(
+        summary
+            .1
+            .iter()
+            .any(|l| l.contains("20 frames on 2 node(s) (1 lost)")),
+        "{:#?}",
+        summary.1
+    );
+    assert_clean("front", &front.finish());
+    assert_clean("left", &left.finish());
+    let report = report(&report_path);
+    // Three nodes agree on every frame before the loss, two on every frame after it.
+    assert_lattices_agree(&report, 3, 5);
+    let after: Vec<serde_json::Value> = report["frames"].as_array().unwrap()[8..].to_vec();
+    assert_lattices_agree(&serde_json::json!({ "frames": after }), 2, 12);
+    assert!(dir.join("node-front.exr").is_file() && !dir.join("node-right.exr").exists());
+}
+
+#[test]
+fn nodes_wait_for_the_master_foreign_nodes_are_refused_and_a_silent_node_times_out() {
+    let dir = common::cli::scratch("cave", "faults");
+    // A free port the master will take after the first node started.
+    let address = {
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        listener.local_addr().unwrap().to_string()
+    };
+    let mut early = node(&address, "front", &dir.join("node"), &[]);
+    early.wait_for("waiting for the master");
+    let mut master = Process::start(&[
+        "cave-master",
+        "--listen",
+        &address,
+        "--nodes",
+        "2",
+        "--frames",
+        "60",
+        "--log-frames",
+        "--node-timeout",
+        "5",
+    ]);
+    master.wait_for("the front wall joined");
+
+    // Another scene: refused in one line on both ends, exit 2; the master goes on waiting.
+    let foreign = node(
+        &address,
+        "left",
+        &dir.join("foreign"),
+        &["--scene", "two-rooms"],
+    );
+    let refused = foreign.finish();
+    assert_eq!(refused.0, Some(2), "{refused:?}");
+    assert!(
+        refused
+            .2
+            .contains("refused by the master: its scene 'two-rooms'"),
+        "{}",
+        refused.2
+    );
+    master.wait_for("refused the left node");
+
+    // A node that stops answering (SIGSTOP) is lost after --node-timeout; the other goes on.
+    let silent = node(&address, "left", &dir.join("node"), &[]);
+    master.wait_for("cave-master: frame 3 ");
+    silent.signal("-STOP");
+    let lost = master.wait_for("lost the");
+    assert!(
+        lost.contains("lost the left wall") && lost.contains("stopped answering"),
+        "{lost}"
+    );
+    silent.signal("-KILL");
+    let summary = master.finish();
+    assert_clean("master", &summary);
+    assert_clean("front", &early.finish());
+}
+
+#[test]
+fn bad_master_and_node_input_is_refused_with_one_line() {
+    let dir = common::cli::scratch("cave", "input");
+    let bad_path = common::cli::write(&dir, "bad.txt", "0 0 0\n0 0 nan\n");
+    for (args, needle) in [
+        (
+            vec!["cave-master", "--nodes", "2", "--path", &bad_path],
+            "line 2",
+        ),
+        (
+            vec!["cave-master", "--nodes", "2", "--head", "0,2,0"],
+            "--head",
+        ),
+        (
+            vec!["cave-master", "--nodes", "2", "--node-timeout", "nan"],
+            "--node-timeout",
+        ),
+        (
+            vec!["cave-master", "--nodes", "1", "--listen", "256.1.1.1:1"],
+            "cannot listen",
+        ),
+        (
+            vec!["cave-master", "--nodes", "1", "--scene", "/no/such.toml"],
+            "such",
+        ),
+        (
+            vec!["cave-node", "--wall", "front", "--master", "nowhere:x"],
+            "--master",
+        ),
+        (
+            vec!["cave-node", "--wall", "front", "--connect-timeout", "-1"],
+            "--connect-timeout",
+        ),
+    ] {
+        let output = common::cli::vkgi(&args);
+        common::cli::assert_bad_input(&output, needle);
+    }
+}
