@@ -350,6 +350,59 @@ fn nodes_wait_for_the_master_foreign_nodes_are_refused_and_a_silent_node_times_o
 }
 
 #[test]
+fn both_eyes_from_one_frame_pass_equal_one_node_per_eye_and_lay_out_for_viewing() {
+    let dir = common::cli::scratch("cave", "stereo");
+    let path = path_file(&dir, 6);
+    let run = |nodes: &[(&str, &[&str])], prefix: &str| {
+        let (master, address) = master(&[
+            "--nodes",
+            &nodes.len().to_string(),
+            "--frames",
+            "6",
+            "--path",
+            path.to_str().unwrap(),
+        ]);
+        let nodes: Vec<Process> = nodes
+            .iter()
+            .map(|(wall, extra)| node(&address, wall, &dir.join(prefix), extra))
+            .collect();
+        (master, nodes)
+    };
+    let one_pass = run(
+        &[("front", &["--eye", "both", "--stereo", "top-bottom"])],
+        "pass",
+    );
+    let per_eye = run(
+        &[
+            ("front", &["--eye", "left"]),
+            ("front", &["--eye", "right"]),
+        ],
+        "eye",
+    );
+    for (master, nodes) in [one_pass, per_eye] {
+        assert_clean("master", &master.finish());
+        for node in nodes {
+            assert_clean("node", &node.finish());
+        }
+    }
+    for eye in ["left", "right"] {
+        let pass = hdr(&dir.join(format!("pass-front-{eye}.exr")));
+        let alone = hdr(&dir.join(format!("eye-front-{eye}.exr")));
+        assert!(
+            pass == alone,
+            "{eye} eye: one frame pass differs from its own node"
+        );
+    }
+    let (left, right) = (
+        hdr(&dir.join("pass-front-left.exr")),
+        hdr(&dir.join("pass-front-right.exr")),
+    );
+    assert!(left != right, "the eyes see from different places");
+    let stereo = image::open(dir.join("pass-front-stereo.png")).unwrap();
+    assert_eq!((stereo.width(), stereo.height()), (48, 96));
+}
+
+#[test]
 fn bad_master_and_node_input_is_refused_with_one_line() {
     let dir = common::cli::scratch("cave", "input");
     let bad_path = common::cli::write(&dir, "bad.txt", "0 0 0\n0 0 nan\n");
@@ -361,6 +414,10 @@ fn bad_master_and_node_input_is_refused_with_one_line() {
         (
             vec!["cave-master", "--nodes", "2", "--head", "0,2,0"],
             "--head",
+        ),
+        (
+            vec!["cave-master", "--nodes", "2", "--eye-separation", "2"],
+            "--eye-separation",
         ),
         (
             vec!["cave-master", "--nodes", "2", "--node-timeout", "nan"],

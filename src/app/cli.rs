@@ -262,6 +262,10 @@ pub struct CaveMasterArgs {
     /// The CAVE's wall size as a fraction of the scene's diagonal.
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.2)]
     pub cave_size: f32,
+    /// The distance between a stereo node's eyes, as a fraction of the wall size (6.5 cm in
+    /// a 3 m CAVE is 0.022).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.022)]
+    pub eye_separation: f32,
     /// Seconds to wait for all nodes to join.
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub join_timeout: f64,
@@ -292,7 +296,15 @@ pub struct CaveNodeArgs {
     /// The wall this node draws.
     #[arg(long, value_enum)]
     pub wall: crate::view::cave::WallName,
-    /// On stopping, save the wall as PREFIX-WALL.png and PREFIX-WALL.exr.
+    /// Which eye it draws: mono (the head), left, right, or both from one frame pass.
+    #[arg(long, value_enum, default_value_t = crate::view::cave::EyeChoice::Mono)]
+    pub eye: crate::view::cave::EyeChoice,
+    /// With --eye both: how the pair is shown without shutter glasses.
+    #[arg(long, value_enum, default_value_t = crate::cave::stereo::StereoLayout::SideBySide)]
+    pub stereo: crate::cave::stereo::StereoLayout,
+    /// On stopping, save the wall as PREFIX-WALL.png and PREFIX-WALL.exr (one eye:
+    /// PREFIX-WALL-EYE.*; both: each eye's, and the pair as --stereo lays it out in
+    /// PREFIX-WALL-stereo.png).
     #[arg(long, value_name = "PREFIX")]
     pub screenshot: Option<PathBuf>,
     /// Seconds to keep trying to reach the master (a node may start first).

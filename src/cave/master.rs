@@ -15,11 +15,24 @@ use super::{Pose, updates};
 use crate::app::cli::{CaveMasterArgs, OnLoss};
 use crate::app::method;
 use crate::scene::Scene;
+use crate::view::cave::EyeChoice;
 
 /// A node that joined.
 struct Node {
     wall: String,
+    eye: EyeChoice,
     link: Link,
+}
+
+impl Node {
+    /// The wall, and the eye where it is not mono (e.g. "front wall (left eye)").
+    fn name(&self) -> String {
+        match self.eye {
+            EyeChoice::Mono => format!("{} wall", self.wall),
+            EyeChoice::Both => format!("{} wall (both eyes)", self.wall),
+            eye => format!("{} wall ({} eye)", self.wall, eye.name()),
+        }
+    }
 }
 
 /// One frame as the master saw it.
@@ -64,6 +77,9 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
     if !(args.cave_size.is_finite() && args.cave_size > 0.0 && args.cave_size <= 100.0) {
         crate::bad_input!("--cave-size must be in (0, 100]");
     }
+    if !(args.eye_separation.is_finite() && (0.0..=1.0).contains(&args.eye_separation)) {
+        crate::bad_input!("--eye-separation must be in [0, 1] (a fraction of the wall size)");
+    }
     if args.head.abs().max_element() > 1.0 {
         crate::bad_input!("--head {} leaves the CAVE (each within ±1)", args.head);
     }
@@ -93,6 +109,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         method: args.gi.method.clone(),
         settings: settings.clone(),
         cave_size: args.cave_size,
+        eye_separation: args.eye_separation,
     };
     let joined = Instant::now();
     let mut nodes = join(&listener, args, &scene_digest, &welcome, join_timeout)?;
@@ -104,20 +121,20 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
             .max(node_timeout);
         match node.link.receive::<NodeMessage>(left) {
             Ok(NodeMessage::Ready) => {}
-            Ok(other) => lost_at_setup.push((node.wall.clone(), format!("it answered {other:?}"))),
-            Err(e) => lost_at_setup.push((node.wall.clone(), describe(e))),
+            Ok(other) => lost_at_setup.push((node.name(), format!("it answered {other:?}"))),
+            Err(e) => lost_at_setup.push((node.name(), describe(e))),
         }
     }
     if let Some((wall, why)) = lost_at_setup.first() {
         stop(&mut nodes, "a node failed to set up", node_timeout);
-        anyhow::bail!("the {wall} node did not get ready: {why}");
+        anyhow::bail!("the {wall} did not get ready: {why}");
     }
     println!("cave-master: {} node(s) ready", nodes.len());
     let mut report = Report {
         scene: scene.name.clone(),
         method: args.gi.method.clone(),
         settings,
-        walls: nodes.iter().map(|n| n.wall.clone()).collect(),
+        walls: nodes.iter().map(Node::name).collect(),
         lost: Vec::new(),
         frames: Vec::new(),
         differing_frames: Vec::new(),
@@ -184,7 +201,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
                     record.render_ms = record.render_ms.max(render);
                     record
                         .lattices
-                        .push((node.wall.clone(), lattice.map(|d| format!("{d:016x}"))));
+                        .push((node.name(), lattice.map(|d| format!("{d:016x}"))));
                 }
                 Err(e) => lost.push((i, e)),
             }
@@ -209,10 +226,10 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         for (i, why) in lost {
             let node = nodes.remove(i);
             println!(
-                "cave-master: lost the {} wall at frame {frame}: {why}",
-                node.wall
+                "cave-master: lost the {} at frame {frame}: {why}",
+                node.name()
             );
-            report.lost.push(node.wall);
+            report.lost.push(node.name());
         }
         if !report.lost.is_empty() && args.on_loss == OnLoss::Stop {
             stop(
@@ -221,7 +238,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
                 node_timeout,
             );
             write_report(args, &report)?;
-            anyhow::bail!("stopped after losing the {} wall", report.lost.join(", "));
+            anyhow::bail!("stopped after losing the {}", report.lost.join(", "));
         }
         if nodes.is_empty() {
             write_report(args, &report)?;
@@ -267,7 +284,7 @@ fn join(
             Ok((stream, _)) => stream,
             Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                 if Instant::now() >= deadline {
-                    let joined: Vec<String> = nodes.iter().map(|n| n.wall.clone()).collect();
+                    let joined: Vec<String> = nodes.iter().map(Node::name).collect();
                     stop(&mut nodes, "the run did not start", Duration::from_secs(1));
                     anyhow::bail!(
                         "only {} of {} node(s) joined within {:.0} s (walls: {})",
@@ -298,6 +315,7 @@ fn join(
         let NodeMessage::Hello {
             build,
             wall,
+            eye,
             scene,
             scene_name,
         } = hello
@@ -315,8 +333,8 @@ fn join(
                 "its scene '{scene_name}' (digest {scene}) is not the master's '{}' (digest {scene_digest})",
                 args.scene
             ))
-        } else if nodes.iter().any(|n| n.wall == wall) {
-            Some(format!("the {wall} wall is taken"))
+        } else if nodes.iter().any(|n| n.wall == wall && n.eye.overlaps(eye)) {
+            Some(format!("the {wall} wall's {} view is taken", eye.name()))
         } else {
             None
         };
@@ -326,10 +344,10 @@ fn join(
             continue;
         }
         link.send(welcome)?;
-        nodes.push(Node { wall, link });
+        nodes.push(Node { wall, eye, link });
         println!(
-            "cave-master: the {} wall joined ({} of {})",
-            nodes.last().map_or("", |n| n.wall.as_str()),
+            "cave-master: the {} joined ({} of {})",
+            nodes.last().map_or(String::new(), Node::name),
             nodes.len(),
             args.nodes
         );

@@ -11,6 +11,7 @@ pub mod master;
 pub mod node;
 pub mod path;
 pub mod protocol;
+pub mod stereo;
 
 use glam::Vec3;
 

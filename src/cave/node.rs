@@ -6,13 +6,14 @@
 //! when the master stops the run.
 
 use std::net::{TcpStream, ToSocketAddrs};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::Context;
 use glam::Vec3;
 
 use super::protocol::{self, Link, MasterMessage, NodeMessage};
+use super::stereo::{self, StereoLayout};
 use crate::app::cli::CaveNodeArgs;
 use crate::app::{method, output};
 use crate::gi::GiMethod;
@@ -20,14 +21,17 @@ use crate::gpu::Gpu;
 use crate::gpu::frames::FrameRing;
 use crate::imageio::{self, HdrImage, ImageKind};
 use crate::render::runner::{self, FRAMES_IN_FLIGHT};
-use crate::render::{Eye, Frame, FrameOptions};
+use crate::render::{Frame, FrameOptions};
 use crate::scene::Scene;
-use crate::view::cave::{Cave, WallName};
-use crate::view::fly::FlyCamera;
+use crate::view::cave::{Cave, EyeChoice, WallName};
 
 pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
-    let wall = args.wall;
-    let tag = format!("cave-node {}", wall.name());
+    let (wall, eye) = (args.wall, args.eye);
+    let tag = match eye {
+        EyeChoice::Mono => format!("cave-node {}", wall.name()),
+        EyeChoice::Both => format!("cave-node {} (both eyes)", wall.name()),
+        eye => format!("cave-node {} ({} eye)", wall.name(), eye.name()),
+    };
     let seconds = |value: f64, flag: &str| -> anyhow::Result<Duration> {
         if !(value.is_finite() && value > 0.0 && value <= 86_400.0) {
             crate::bad_input!("--{flag} must be in (0, 86400] seconds");
@@ -44,7 +48,7 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     let screenshot = args
         .screenshot
         .as_ref()
-        .map(|prefix| screenshot_paths(prefix, wall))
+        .map(|prefix| Screenshot::new(prefix, wall, eye))
         .transpose()?;
     let mut scene = Scene::load(&args.scene)?;
     scene.area_samples = args.frame.area_samples;
@@ -53,15 +57,17 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     link.send(&NodeMessage::Hello {
         build: protocol::build(),
         wall: wall.name().into(),
+        eye,
         scene: crate::reference::cache::scene_hash(&scene),
         scene_name: scene.name.clone(),
     })?;
-    let (method_name, settings, cave_size) = match link.receive(master_timeout) {
+    let (method_name, settings, cave_size, separation) = match link.receive(master_timeout) {
         Ok(MasterMessage::Welcome {
             method,
             settings,
             cave_size,
-        }) => (method, settings, cave_size),
+            eye_separation,
+        }) => (method, settings, cave_size, eye_separation),
         Ok(MasterMessage::Refused { reason }) => {
             crate::bad_input!("refused by the master: {reason}")
         }
@@ -70,6 +76,9 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     };
     if !(cave_size.is_finite() && cave_size > 0.0 && cave_size <= 100.0) {
         anyhow::bail!("the master sent a CAVE size of {cave_size}");
+    }
+    if !(separation.is_finite() && (0.0..=1.0).contains(&separation)) {
+        anyhow::bail!("the master sent an eye separation of {separation}");
     }
     let chosen = method::choose(&method_name, &settings)?;
 
@@ -80,8 +89,12 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         height: side,
         ..args.frame.options()
     };
-    let first_eye = wall_eye(&mut cave, &fly, &scene, wall);
-    let mut frame = Frame::with_eyes(&gpu, &scene, options, &[first_eye])?;
+    let views = |cave: &mut Cave, scene: &Scene| {
+        cave.follow(&fly);
+        eye.eyes(cave, scene, &cave.all_walls()[wall.index()], separation)
+    };
+    let first_eyes = views(&mut cave, &scene);
+    let mut frame = Frame::with_eyes(&gpu, &scene, options, &first_eyes)?;
     let mut gi = match &chosen {
         Some(c) => Some(method::build(&gpu, &scene, c, None)?),
         None => None,
@@ -137,7 +150,7 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
             gi.as_mut(),
             &rebuild,
         )?;
-        frame.set_eyes(&[wall_eye(&mut cave, &fly, &scene, wall)]);
+        frame.set_eyes(&views(&mut cave, &scene));
         let start = Instant::now();
         frame.submit(
             &gpu,
@@ -160,41 +173,87 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         finished_at = Some(Instant::now());
         frames += 1;
     }
-    if let Some((png, exr)) = &screenshot {
-        let size = (side, side);
-        output::write_images(
-            Some(png),
-            Some(exr),
-            || Ok(frame.read_ldr(&gpu)?),
-            || Ok(HdrImage::new(side, side, frame.read_hdr(&gpu)?)),
-            size,
-        )?;
-        println!("{tag}: saved {} and {}", png.display(), exr.display());
+    if let Some(screenshot) = &screenshot {
+        if frames == 0 {
+            anyhow::bail!("stopped before the first frame: nothing to save");
+        }
+        screenshot.save(&gpu, &frame, args.stereo)?;
+        println!("{tag}: saved {}", screenshot.describe());
     }
     crate::app::render::check_validation(&gpu)
 }
 
-/// The eye of the head through `wall` of the CAVE `fly` carries (as `vkgi view --cave` makes
-/// it).
-fn wall_eye(cave: &mut Cave, fly: &FlyCamera, scene: &Scene, wall: WallName) -> Eye {
-    cave.follow(fly);
-    cave.eye(scene, &cave.all_walls()[wall.index()])
+/// Where a node saves its views: PNG and EXR per view, and with both eyes the laid-out pair.
+struct Screenshot {
+    /// PNG and EXR of every view, in view order.
+    views: Vec<(PathBuf, PathBuf)>,
+    stereo: Option<PathBuf>,
 }
 
-/// PREFIX-WALL.png and PREFIX-WALL.exr, checked before any work.
-fn screenshot_paths(
-    prefix: &std::path::Path,
-    wall: WallName,
-) -> anyhow::Result<(PathBuf, PathBuf)> {
-    let with = |extension: &str| {
-        let mut name = prefix.as_os_str().to_owned();
-        name.push(format!("-{}.{extension}", wall.name()));
-        PathBuf::from(name)
-    };
-    let (png, exr) = (with("png"), with("exr"));
-    imageio::check_image_output(&png, ImageKind::Ldr)?;
-    imageio::check_image_output(&exr, ImageKind::Hdr)?;
-    Ok((png, exr))
+impl Screenshot {
+    /// The paths for `prefix`, checked before any work.
+    fn new(prefix: &Path, wall: WallName, eye: EyeChoice) -> anyhow::Result<Screenshot> {
+        let with = |suffix: &str| {
+            let mut name = prefix.as_os_str().to_owned();
+            name.push(format!("-{}{suffix}", wall.name()));
+            PathBuf::from(name)
+        };
+        let pair = |suffix: &str| -> anyhow::Result<(PathBuf, PathBuf)> {
+            let (png, exr) = (
+                with(&format!("{suffix}.png")),
+                with(&format!("{suffix}.exr")),
+            );
+            imageio::check_image_output(&png, ImageKind::Ldr)?;
+            imageio::check_image_output(&exr, ImageKind::Hdr)?;
+            Ok((png, exr))
+        };
+        let (views, stereo) = match eye {
+            EyeChoice::Mono => (vec![pair("")?], None),
+            EyeChoice::Left => (vec![pair("-left")?], None),
+            EyeChoice::Right => (vec![pair("-right")?], None),
+            EyeChoice::Both => {
+                let stereo = with("-stereo.png");
+                imageio::check_image_output(&stereo, ImageKind::Ldr)?;
+                (vec![pair("-left")?, pair("-right")?], Some(stereo))
+            }
+        };
+        Ok(Screenshot { views, stereo })
+    }
+
+    fn save(&self, gpu: &Gpu, frame: &Frame, layout: StereoLayout) -> anyhow::Result<()> {
+        let (width, height) = (frame.options.width, frame.options.height);
+        for (index, (png, exr)) in self.views.iter().enumerate() {
+            output::write_images(
+                Some(png),
+                Some(exr),
+                || Ok(frame.read_view_ldr(gpu, index)?),
+                || {
+                    Ok(HdrImage::new(
+                        width,
+                        height,
+                        frame.read_view_hdr(gpu, index)?,
+                    ))
+                },
+                (width, height),
+            )?;
+        }
+        if let Some(path) = &self.stereo {
+            let (left, right) = (frame.read_view_ldr(gpu, 0)?, frame.read_view_ldr(gpu, 1)?);
+            let (pixels, (w, h)) = stereo::compose(layout, &left, &right, (width, height));
+            imageio::write_png(path, w, h, &pixels)?;
+        }
+        Ok(())
+    }
+
+    fn describe(&self) -> String {
+        let mut names: Vec<String> = self
+            .views
+            .iter()
+            .flat_map(|(png, exr)| [png.display().to_string(), exr.display().to_string()])
+            .collect();
+        names.extend(self.stereo.iter().map(|p| p.display().to_string()));
+        names.join(", ")
+    }
 }
 
 /// Connect to the master, trying again until `timeout` (a node may start before its master).

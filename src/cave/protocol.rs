@@ -10,6 +10,8 @@ use bytes::{Bytes, BytesMut};
 use serde::{Deserialize, Serialize};
 use tokio_util::codec::{Decoder, Encoder, LengthDelimitedCodec};
 
+use crate::view::cave::EyeChoice;
+
 /// Bumped whenever a message changes shape: a node and a master of different protocols refuse
 /// each other at the handshake.
 pub const PROTOCOL: u32 = 1;
@@ -29,6 +31,7 @@ pub enum NodeMessage {
     Hello {
         build: String,
         wall: String,
+        eye: EyeChoice,
         /// The scene's content digest (see `Scene::digest`) and name.
         scene: String,
         scene_name: String,
@@ -62,6 +65,8 @@ pub enum MasterMessage {
         settings: Vec<(String, String)>,
         /// The CAVE's wall size as a fraction of the scene's diagonal.
         cave_size: f32,
+        /// The distance between the eyes, as a fraction of the wall size.
+        eye_separation: f32,
     },
     /// The node cannot join (another build or scene, a wall already taken), in one line.
     Refused { reason: String },

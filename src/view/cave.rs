@@ -170,14 +170,72 @@ impl Cave {
 
     /// The eye of the head looking through `wall`.
     pub fn eye(&self, scene: &Scene, wall: &Wall) -> Eye {
+        self.eye_at(scene, wall, self.head())
+    }
+
+    /// The eyes of a stereo pair through `wall`, left then right: each `separation` (a
+    /// fraction of the wall size) / 2 from the head along the CAVE's right axis (the viewer
+    /// faces the front wall; the samples track no head rotation). Their frusta are off-axis
+    /// through the same wall rectangle, so a point on the wall has no parallax.
+    pub fn stereo_eyes(&self, scene: &Scene, wall: &Wall, separation: f32) -> [Eye; 2] {
+        let r = self.forward.cross(Vec3::Y).normalize();
+        let half = r * (0.5 * separation * 2.0 * self.half_size);
         let head = self.head();
+        [head - half, head + half].map(|position| self.eye_at(scene, wall, position))
+    }
+
+    /// The eye at `position` looking through `wall`, with clip planes enclosing the scene.
+    fn eye_at(&self, scene: &Scene, wall: &Wall, position: Vec3) -> Eye {
         let (lo, hi) = (scene.bounds_min, scene.bounds_max);
         let extent = (hi - lo).length().max(1e-3);
-        let far = (0.5 * (lo + hi) - head).length() + extent;
+        let far = (0.5 * (lo + hi) - position).length() + extent;
         let near = (extent * 1e-3).min(far * 1e-3);
         Eye {
-            view_projection: off_axis(head, wall, near, far),
-            position: head,
+            view_projection: off_axis(position, wall, near, far),
+            position,
+        }
+    }
+}
+
+/// Which eye (or eyes) a view shows.
+#[derive(
+    clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize,
+)]
+pub enum EyeChoice {
+    /// One eye at the tracked head (no stereo).
+    Mono,
+    Left,
+    Right,
+    /// Both eyes, drawn from one frame pass (two eye passes).
+    Both,
+}
+
+impl EyeChoice {
+    pub fn name(self) -> &'static str {
+        match self {
+            EyeChoice::Mono => "mono",
+            EyeChoice::Left => "left",
+            EyeChoice::Right => "right",
+            EyeChoice::Both => "both",
+        }
+    }
+
+    /// Whether two nodes of one wall would show an eye twice (only a left and a right share).
+    pub fn overlaps(self, other: EyeChoice) -> bool {
+        !matches!(
+            (self, other),
+            (EyeChoice::Left, EyeChoice::Right) | (EyeChoice::Right, EyeChoice::Left)
+        )
+    }
+
+    /// The eyes of `wall` this choice draws, in view order.
+    pub fn eyes(self, cave: &Cave, scene: &Scene, wall: &Wall, separation: f32) -> Vec<Eye> {
+        let [left, right] = cave.stereo_eyes(scene, wall, separation);
+        match self {
+            EyeChoice::Mono => vec![cave.eye(scene, wall)],
+            EyeChoice::Left => vec![left],
+            EyeChoice::Right => vec![right],
+            EyeChoice::Both => vec![left, right],
         }
     }
 }
@@ -285,6 +343,41 @@ mod tests {
                 wall.name
             );
             assert!((0.0..1.0).contains(&lower_left.z));
+        }
+    }
+
+    #[test]
+    fn stereo_eyes_agree_on_the_wall_and_disagree_in_front_of_and_behind_it() {
+        let scene = Scene::load("cornell").unwrap();
+        let c = Cave {
+            center: Vec3::new(0.28, 0.27, 0.28),
+            ..cave(Vec3::new(0.2, 0.1, 0.3))
+        };
+        let ndc = |m: Mat4, p: Vec3| {
+            let clip = m * p.extend(1.0);
+            clip.truncate() / clip.w
+        };
+        for wall in c.all_walls() {
+            let [left, right] = c.stereo_eyes(&scene, &wall, 0.05);
+            assert!((left.position - right.position).length() > 0.04);
+            let on_wall = wall.corner + 0.3 * wall.right + 0.6 * wall.up;
+            let (a, b) = (
+                ndc(left.view_projection, on_wall),
+                ndc(right.view_projection, on_wall),
+            );
+            assert!(
+                (a.x - b.x).abs() < 1e-4 && (a.y - b.y).abs() < 1e-4,
+                "{}",
+                wall.name
+            );
+            // A point beyond the wall shows parallax.
+            let normal = wall.right.cross(wall.up).normalize();
+            let beyond = on_wall - normal * 2.0;
+            let (a, b) = (
+                ndc(left.view_projection, beyond),
+                ndc(right.view_projection, beyond),
+            );
+            assert!((a - b).length() > 1e-3, "{}: {a} {b}", wall.name);
         }
     }
 
