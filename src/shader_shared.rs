@@ -46,6 +46,11 @@ shared_constants! {
     OVERLAY_BOX: u32 = 1;
     OVERLAY_TEXT: u32 = 2;
 
+    // ---- red-cyan anaglyph of a stereo pair (CAVE nodes) ----
+    ANAGLYPH_LEFT: u32 = 0;
+    ANAGLYPH_RIGHT: u32 = 1;
+    ANAGLYPH_TARGET: u32 = 2;
+
     // ---- tone mapping ----
     TONEMAP_HDR_IN: u32 = 0;
     TONEMAP_LDR_OUT: u32 = 1;

@@ -23,14 +23,17 @@ struct Process {
 
 impl Process {
     fn start(args: &[&str]) -> Process {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_vkgi"))
-            .args(args)
+        Process::spawn(Command::new(env!("CARGO_BIN_EXE_vkgi")).args(args))
+    }
+
+    fn spawn(command: &mut Command) -> Process {
+        let mut child = command
             .env("VKGI_VALIDATE", "1")
             .env("RUST_BACKTRACE", "0")
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
-            .expect("the vkgi binary runs");
+            .expect("the program runs");
         let (send, lines) = channel();
         let stdout = child.stdout.take().unwrap();
         std::thread::spawn(move || {
@@ -115,7 +118,25 @@ fn master(args: &[&str]) -> (Process, String) {
     (master, address)
 }
 
+/// A headless node.
 fn node(address: &str, wall: &str, prefix: &Path, extra: &[&str]) -> Process {
+    let mut args = vec!["--headless"];
+    args.extend_from_slice(extra);
+    let args = node_args(address, wall, prefix, &args);
+    Process::start(&args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
+/// A node with a window on X display `display`.
+fn windowed_node(address: &str, wall: &str, prefix: &Path, display: &str) -> Process {
+    let args = node_args(address, wall, prefix, &[]);
+    Process::spawn(
+        Command::new(env!("CARGO_BIN_EXE_vkgi"))
+            .args(&args)
+            .env("DISPLAY", display),
+    )
+}
+
+fn node_args(address: &str, wall: &str, prefix: &Path, extra: &[&str]) -> Vec<String> {
     let prefix = prefix.to_string_lossy().into_owned();
     let mut args = vec![
         "cave-node",
@@ -123,13 +144,14 @@ fn node(address: &str, wall: &str, prefix: &Path, extra: &[&str]) -> Process {
         address,
         "--wall",
         wall,
-        "--size",
-        "48x48",
         "--screenshot",
         &prefix,
     ];
+    if !extra.contains(&"--size") {
+        args.extend(["--size", "48x48"]);
+    }
     args.extend_from_slice(extra);
-    Process::start(&args)
+    args.into_iter().map(String::from).collect()
 }
 
 /// A node ran to the end: exit 0, no validation message.
@@ -181,8 +203,35 @@ fn hdr(path: &Path) -> Vec<u32> {
     image.pixels.iter().flatten().map(|v| v.to_bits()).collect()
 }
 
+/// A virtual X server (Xvfb, as xvfb-run starts it) on a free display, stopped when dropped.
+struct VirtualDisplay {
+    server: Process,
+    name: String,
+}
+
+impl VirtualDisplay {
+    fn start() -> VirtualDisplay {
+        // -displayfd 1: Xvfb picks a free display and prints its number once it is ready.
+        let mut server = Process::spawn(Command::new("Xvfb").args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            "1024x768x24",
+            "-nolisten",
+            "tcp",
+        ]));
+        let number = server.wait_for("");
+        VirtualDisplay {
+            name: format!(":{}", number.trim()),
+            server,
+        }
+    }
+}
+
 #[test]
 fn four_nodes_render_the_single_process_cave_tiles_bit_for_bit() {
+    let x = VirtualDisplay::start();
     let dir = common::cli::scratch("cave", "four");
     let frames = 30;
     let path = path_file(&dir, frames);
@@ -198,9 +247,10 @@ fn four_nodes_render_the_single_process_cave_tiles_bit_for_bit() {
         report_path.to_str().unwrap(),
     ]);
     let walls = ["front", "left", "right", "floor"];
+    // Each node in its own window, on the one virtual display.
     let nodes: Vec<Process> = walls
         .iter()
-        .map(|wall| node(&address, wall, &dir.join("node"), &[]))
+        .map(|wall| windowed_node(&address, wall, &dir.join("node"), &x.name))
         .collect();
     let summary = master.finish();
     assert_clean("master", &summary);
@@ -218,20 +268,15 @@ fn four_nodes_render_the_single_process_cave_tiles_bit_for_bit() {
     assert_lattices_agree(&report(&report_path), 4, frames);
 
     // The same frames from one process: the walls tiled 3x2 in one 144x96 window (48x48 each).
-    let output = Command::new("xvfb-run")
-        .args([
-            "-a",
-            "-s",
-            "-screen 0 1024x768x24",
-            env!("CARGO_BIN_EXE_vkgi"),
-        ])
+    let output = Command::new(env!("CARGO_BIN_EXE_vkgi"))
         .args(["view", "--cave", "--size", "144x96", "--frames", "30"])
         .args(["--path", path.to_str().unwrap(), "--injection", "fixed"])
         .arg("--screenshot")
         .arg(dir.join("single"))
         .env("VKGI_VALIDATE", "1")
+        .env("DISPLAY", &x.name)
         .output()
-        .expect("xvfb-run runs (Debian package xvfb)");
+        .expect("vkgi runs");
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(output.status.success(), "{stderr}");
     assert!(!stderr.contains("validation:"), "{stderr}");
@@ -244,7 +289,11 @@ fn four_nodes_render_the_single_process_cave_tiles_bit_for_bit() {
             single == node,
             "{wall}: the node's wall differs from the tile"
         );
+        // The node's window shows the wall under its overlay.
+        let window = image::open(dir.join(format!("node-{wall}-window.png"))).unwrap();
+        assert_eq!((window.width(), window.height()), (48, 48), "{wall}");
     }
+    drop(x.server);
 }
 
 #[test]
@@ -369,7 +418,10 @@ fn both_eyes_from_one_frame_pass_equal_one_node_per_eye_and_lay_out_for_viewing(
         (master, nodes)
     };
     let one_pass = run(
-        &[("front", &["--eye", "both", "--stereo", "top-bottom"])],
+        &[(
+            "front",
+            &["--eye", "both", "--stereo", "top-bottom", "--size", "48x96"],
+        )],
         "pass",
     );
     let per_eye = run(

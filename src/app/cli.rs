@@ -304,9 +304,13 @@ pub struct CaveNodeArgs {
     pub stereo: crate::cave::stereo::StereoLayout,
     /// On stopping, save the wall as PREFIX-WALL.png and PREFIX-WALL.exr (one eye:
     /// PREFIX-WALL-EYE.*; both: each eye's, and the pair as --stereo lays it out in
-    /// PREFIX-WALL-stereo.png).
+    /// PREFIX-WALL-stereo.png; a windowed node also its window, overlay included, as
+    /// PREFIX-WALL-window.png).
     #[arg(long, value_name = "PREFIX")]
     pub screenshot: Option<PathBuf>,
+    /// Render without a window (save the wall with --screenshot).
+    #[arg(long)]
+    pub headless: bool,
     /// Seconds to keep trying to reach the master (a node may start first).
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     pub connect_timeout: f64,

@@ -7,6 +7,7 @@
 //! * `path`: the tracked head and light samples that drive a run;
 //! * `master`, `node`: `vkgi cave-master` and `vkgi cave-node`.
 
+pub mod display;
 pub mod master;
 pub mod node;
 pub mod path;

@@ -12,13 +12,14 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use glam::Vec3;
 
-use super::protocol::{self, Link, MasterMessage, NodeMessage};
+use super::display::{Display, Opened};
+use super::protocol::{self, Link, LinkError, MasterMessage, NodeMessage};
 use super::stereo::{self, StereoLayout};
 use crate::app::cli::CaveNodeArgs;
 use crate::app::{method, output};
 use crate::gi::GiMethod;
-use crate::gpu::Gpu;
 use crate::gpu::frames::FrameRing;
+use crate::gpu::{Gpu, GpuOptions};
 use crate::imageio::{self, HdrImage, ImageKind};
 use crate::render::runner::{self, FRAMES_IN_FLIGHT};
 use crate::render::{Frame, FrameOptions};
@@ -40,11 +41,12 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     };
     let connect_timeout = seconds(args.connect_timeout, "connect-timeout")?;
     let master_timeout = seconds(args.master_timeout, "master-timeout")?;
-    let side = args.frame.size.0.min(args.frame.size.1);
     let limit = crate::render::MAX_IMAGE_SIDE;
-    if side == 0 || args.frame.size.0.max(args.frame.size.1) > limit {
+    let (width, height) = args.frame.size;
+    if width == 0 || height == 0 || width.max(height) > limit {
         crate::bad_input!("--size must be 1..={limit} on each side");
     }
+    let side = view_side(args.frame.size, eye, args.stereo);
     let screenshot = args
         .screenshot
         .as_ref()
@@ -82,7 +84,15 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     }
     let chosen = method::choose(&method_name, &settings)?;
 
-    let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
+    let opened = match args.headless {
+        true => None,
+        false => Some(Opened::new(&format!("vkgi: {tag}"), args.frame.size)?),
+    };
+    let gpu = Gpu::new(&GpuOptions {
+        display: opened.as_ref().map(Opened::display).transpose()?,
+        ..args.gpu.options()
+    })
+    .context("setting up the GPU")?;
     let (mut cave, fly) = Cave::placed_with_fly(&scene, cave_size, Vec3::ZERO);
     let options = FrameOptions {
         width: side,
@@ -104,24 +114,28 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         None => anyhow::bail!("no GI method to build"),
     };
     let mut ring = FrameRing::new(&gpu, FRAMES_IN_FLIGHT)?;
+    let mut display = opened
+        .map(|o| Display::new(&gpu, o, first_eyes.len(), args.stereo, FRAMES_IN_FLIGHT))
+        .transpose()?;
     link.send(&NodeMessage::Ready)?;
     println!("{tag}: joined; rendering {side}x{side} with {method_name}");
 
     let mut version = 0u64;
     let mut frames = 0u64;
     let mut finished_at: Option<Instant> = None;
+    let mut last_render_ms = 0.0;
     loop {
-        let message = link
-            .receive::<MasterMessage>(master_timeout)
+        let message = next_message(&mut link, display.as_mut(), master_timeout)
             .map_err(|e| anyhow::anyhow!("lost the master after {frames} frame(s): {e}"))?;
-        let (number, since, next, updates) = match message {
+        let (number, since, next, updates, figures) = match message {
             MasterMessage::Frame {
                 frame,
                 since,
                 version,
                 updates,
-                ..
-            } => (frame, since, version, updates),
+                sync_ms,
+                lock_wait_ms,
+            } => (frame, since, version, updates, (sync_ms, lock_wait_ms)),
             MasterMessage::Stop { reason } => {
                 println!("{tag}: stopping after {frames} frame(s): {reason}");
                 break;
@@ -152,13 +166,17 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         )?;
         frame.set_eyes(&views(&mut cave, &scene));
         let start = Instant::now();
-        frame.submit(
-            &gpu,
-            &mut ring,
-            gi.as_deref_mut().map(|g| g as &mut dyn GiMethod),
-        )?;
+        let method = gi.as_deref_mut().map(|g| g as &mut dyn GiMethod);
+        match &mut display {
+            Some(display) => {
+                let lines = overlay_lines(&tag, number, version, figures, last_render_ms);
+                display.render(&gpu, &mut ring, &mut frame, method, &lines)?;
+            }
+            None => frame.submit(&gpu, &mut ring, method)?,
+        }
         ring.finish()?;
         let render_ms = start.elapsed().as_secs_f64() * 1e3;
+        last_render_ms = render_ms;
         let lattice = match &gi {
             Some(g) => g.state_digest(&gpu)?,
             None => None,
@@ -177,10 +195,66 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         if frames == 0 {
             anyhow::bail!("stopped before the first frame: nothing to save");
         }
-        screenshot.save(&gpu, &frame, args.stereo)?;
-        println!("{tag}: saved {}", screenshot.describe());
+        screenshot.save(&gpu, &frame, args.stereo, display.as_ref())?;
+        println!("{tag}: saved {}", screenshot.describe(display.is_some()));
     }
     crate::app::render::check_validation(&gpu)
+}
+
+/// The side of the node's square views: the largest that fits its window (`size`), one view
+/// or a stereo pair laid out side by side or top-bottom (an anaglyph overlays the pair).
+fn view_side((width, height): (u32, u32), eye: EyeChoice, layout: StereoLayout) -> u32 {
+    match (eye, layout) {
+        (EyeChoice::Both, StereoLayout::SideBySide) => (width / 2).min(height),
+        (EyeChoice::Both, StereoLayout::TopBottom) => width.min(height / 2),
+        _ => width.min(height),
+    }
+    .max(1)
+}
+
+/// The master's next message, keeping the window (if any) responsive while waiting.
+fn next_message(
+    link: &mut Link,
+    mut display: Option<&mut Display>,
+    timeout: Duration,
+) -> anyhow::Result<MasterMessage> {
+    let deadline = Instant::now() + timeout;
+    loop {
+        let slice = deadline
+            .saturating_duration_since(Instant::now())
+            .min(Duration::from_millis(20));
+        match link.receive::<MasterMessage>(slice) {
+            Ok(message) => return Ok(message),
+            Err(LinkError::Timeout(_)) if Instant::now() < deadline => {
+                if let Some(display) = display.as_deref_mut()
+                    && !display.pump()
+                {
+                    anyhow::bail!("its window was closed");
+                }
+            }
+            Err(LinkError::Timeout(_)) => {
+                anyhow::bail!("no message within {:.1} s", timeout.as_secs_f64())
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+}
+
+/// The overlay: who the node is, the frame and version it shows, the master's sync figures of
+/// the frame before, and its own render time.
+fn overlay_lines(
+    tag: &str,
+    frame: u64,
+    version: u64,
+    (sync_ms, lock_wait_ms): (f64, f64),
+    render_ms: f64,
+) -> Vec<String> {
+    vec![
+        tag.to_uppercase(),
+        format!("FRAME {frame}  VERSION {version}"),
+        format!("SYNC {sync_ms:.3} MS  LOCK WAIT {lock_wait_ms:.3} MS"),
+        format!("RENDER {render_ms:.1} MS"),
+    ]
 }
 
 /// Where a node saves its views: PNG and EXR per view, and with both eyes the laid-out pair.
@@ -188,6 +262,8 @@ struct Screenshot {
     /// PNG and EXR of every view, in view order.
     views: Vec<(PathBuf, PathBuf)>,
     stereo: Option<PathBuf>,
+    /// The window image with its overlay (windowed nodes only).
+    window: PathBuf,
 }
 
 impl Screenshot {
@@ -217,10 +293,22 @@ impl Screenshot {
                 (vec![pair("-left")?, pair("-right")?], Some(stereo))
             }
         };
-        Ok(Screenshot { views, stereo })
+        let window = with("-window.png");
+        imageio::check_image_output(&window, ImageKind::Ldr)?;
+        Ok(Screenshot {
+            views,
+            stereo,
+            window,
+        })
     }
 
-    fn save(&self, gpu: &Gpu, frame: &Frame, layout: StereoLayout) -> anyhow::Result<()> {
+    fn save(
+        &self,
+        gpu: &Gpu,
+        frame: &Frame,
+        layout: StereoLayout,
+        display: Option<&Display>,
+    ) -> anyhow::Result<()> {
         let (width, height) = (frame.options.width, frame.options.height);
         for (index, (png, exr)) in self.views.iter().enumerate() {
             output::write_images(
@@ -242,16 +330,23 @@ impl Screenshot {
             let (pixels, (w, h)) = stereo::compose(layout, &left, &right, (width, height));
             imageio::write_png(path, w, h, &pixels)?;
         }
+        if let Some(display) = display {
+            let (pixels, (w, h)) = display.read_window(gpu)?;
+            imageio::write_png(&self.window, w, h, &pixels)?;
+        }
         Ok(())
     }
 
-    fn describe(&self) -> String {
+    fn describe(&self, windowed: bool) -> String {
         let mut names: Vec<String> = self
             .views
             .iter()
             .flat_map(|(png, exr)| [png.display().to_string(), exr.display().to_string()])
             .collect();
         names.extend(self.stereo.iter().map(|p| p.display().to_string()));
+        if windowed {
+            names.push(self.window.display().to_string());
+        }
         names.join(", ")
     }
 }

@@ -1,0 +1,268 @@
+//! A render node's window: its wall (one eye, or a stereo pair side by side, top-bottom or as a
+//! red-cyan anaglyph) with an overlay of the run's sync figures. The node's loop waits on the
+//! master, so winit's events are pumped between frames rather than driving them.
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use anyhow::Context;
+use ash::vk;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::WindowEvent;
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::platform::pump_events::EventLoopExtPumpEvents;
+use winit::raw_window_handle::{HasDisplayHandle, RawDisplayHandle};
+use winit::window::{Window, WindowId};
+
+use super::stereo::StereoLayout;
+use crate::gi::GiMethod;
+use crate::gpu::frames::{FrameRing, SemaphoreWait};
+use crate::gpu::{Binding, ComputePass, ComputePipeline, Gpu, Specialization};
+use crate::render::{Epilogue, Frame};
+use crate::shader_shared as ids;
+use crate::shaders;
+use crate::view::output::{Output, Tile};
+use crate::view::overlay::Overlay;
+
+crate::push_constants! {
+    struct AnaglyphPush {
+        origin: [i32; 2],
+        size: [i32; 2],
+    }
+}
+
+/// Creates the window when winit is ready, and notes what happens to it.
+struct Events {
+    attributes: winit::window::WindowAttributes,
+    window: Option<Arc<Window>>,
+    error: Option<winit::error::OsError>,
+    closed: bool,
+    resized: bool,
+}
+
+impl ApplicationHandler for Events {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.window.is_none() {
+            match event_loop.create_window(self.attributes.clone()) {
+                Ok(window) => self.window = Some(Arc::new(window)),
+                Err(e) => self.error = Some(e),
+            }
+        }
+    }
+
+    fn window_event(&mut self, _: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => self.closed = true,
+            WindowEvent::Resized(_) => self.resized = true,
+            _ => {}
+        }
+    }
+}
+
+/// The window before the GPU exists (the GPU needs its display).
+pub struct Opened {
+    event_loop: EventLoop<()>,
+    events: Events,
+    window: Arc<Window>,
+}
+
+impl Opened {
+    /// Open a window titled `title` of `width` x `height`.
+    pub fn new(title: &str, (width, height): (u32, u32)) -> anyhow::Result<Opened> {
+        let mut event_loop = EventLoop::new().context(
+            "a node's window needs a display (X11 or Wayland); without one use --headless",
+        )?;
+        let mut events = Events {
+            attributes: Window::default_attributes()
+                .with_title(title)
+                .with_inner_size(PhysicalSize::new(width, height)),
+            window: None,
+            error: None,
+            closed: false,
+            resized: false,
+        };
+        for _ in 0..200 {
+            event_loop.pump_app_events(Some(Duration::from_millis(10)), &mut events);
+            if let Some(e) = events.error.take() {
+                return Err(e).context("opening the node's window");
+            }
+            if let Some(window) = events.window.clone() {
+                return Ok(Opened {
+                    event_loop,
+                    events,
+                    window,
+                });
+            }
+        }
+        anyhow::bail!("the window system never let the node open its window")
+    }
+
+    pub fn display(&self) -> anyhow::Result<RawDisplayHandle> {
+        Ok(self.event_loop.display_handle()?.as_raw())
+    }
+}
+
+/// The window with its swapchain, overlay and (for an anaglyph) the pass that mixes the eyes.
+pub struct Display {
+    // Field order is drop order: GPU objects before the window and its event loop.
+    anaglyph: Option<ComputePipeline>,
+    overlay: Overlay,
+    output: Output,
+    layout: StereoLayout,
+    views: usize,
+    events: Events,
+    event_loop: EventLoop<()>,
+}
+
+impl Display {
+    pub fn new(
+        gpu: &Gpu,
+        opened: Opened,
+        views: usize,
+        layout: StereoLayout,
+        frames_in_flight: usize,
+    ) -> anyhow::Result<Display> {
+        let anaglyph = (views == 2 && layout == StereoLayout::Anaglyph)
+            .then(|| {
+                ComputePipeline::new(
+                    gpu,
+                    "anaglyph",
+                    shaders::VIEW_ANAGLYPH_COMP,
+                    &Specialization::new(),
+                )
+            })
+            .transpose()?;
+        let mut display = Display {
+            anaglyph,
+            overlay: Overlay::new(gpu, frames_in_flight)?,
+            output: Output::new(gpu, opened.window, false, frames_in_flight)?,
+            layout,
+            views,
+            events: opened.events,
+            event_loop: opened.event_loop,
+        };
+        display.place_tiles();
+        Ok(display)
+    }
+
+    /// Handle the window's pending events; false once the user closed it.
+    pub fn pump(&mut self) -> bool {
+        self.event_loop
+            .pump_app_events(Some(Duration::ZERO), &mut self.events);
+        !self.events.closed
+    }
+
+    /// Render `frame` and show it with `lines` over it. The GI method's state advances exactly
+    /// as without a window: a frame whose swapchain is out of date is rendered all the same,
+    /// only not shown (the swapchain is rebuilt for the next).
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        ring: &mut FrameRing,
+        frame: &mut Frame,
+        gi: Option<&mut dyn GiMethod>,
+        lines: &[String],
+    ) -> anyhow::Result<()> {
+        let size = self.output.window.inner_size();
+        if self.events.resized && size.width > 0 && size.height > 0 {
+            self.events.resized = false;
+            ring.finish()?;
+            gpu.wait_idle()?;
+            self.output.resize(gpu)?;
+            self.place_tiles();
+        }
+        let builder = ring.begin_frame()?;
+        let slot = builder.slot();
+        let Some(acquired) = self.output.acquire(slot)? else {
+            self.events.resized = true;
+            return Ok(frame.submit_frame(gpu, builder, gi, None)?);
+        };
+        self.overlay.set_text(slot, lines)?;
+        let waits = [SemaphoreWait {
+            semaphore: acquired.ready,
+            value: 0,
+            stage: vk::PipelineStageFlags2::BLIT | vk::PipelineStageFlags2::COMPUTE_SHADER,
+        }];
+        let signals = [(acquired.rendered, 0)];
+        let (output, overlay, anaglyph) = (&self.output, &self.overlay, &self.anaglyph);
+        let record = |rec: &mut crate::gpu::Recorder, frame: &Frame| {
+            output.record_compose(rec, frame);
+            if let Some(pipeline) = anaglyph {
+                let rect = output.tiles[0].rect;
+                // Within the tile (the views are sized to it; a window resized smaller crops).
+                let view = &frame.views[0];
+                let size = [
+                    (view.width() as i32).min(rect[2]),
+                    (view.height() as i32).min(rect[3]),
+                ];
+                rec.compute(&ComputePass {
+                    name: "anaglyph",
+                    pipeline,
+                    bindings: &[
+                        Binding::image_read(ids::ANAGLYPH_LEFT, &frame.views[0].ldr),
+                        Binding::image_read(ids::ANAGLYPH_RIGHT, &frame.views[1].ldr),
+                        Binding::image_write(ids::ANAGLYPH_TARGET, &output.composed),
+                    ],
+                    push: &AnaglyphPush {
+                        origin: [rect[0], rect[1]],
+                        size,
+                    },
+                    threads: [size[0] as u32, size[1] as u32, 1],
+                })?;
+            }
+            overlay.record(rec, slot, &output.composed)?;
+            output.record_present(rec, &acquired);
+            Ok(())
+        };
+        let epilogue = Epilogue {
+            waits: &waits,
+            signals: &signals,
+            record: &record,
+        };
+        frame.submit_frame(gpu, builder, gi, Some(&epilogue))?;
+        let shown = crate::gpu::swapchain::Swapchain::present(
+            &gpu.queues.graphics,
+            &[(self.output.swapchain(), acquired)],
+        )?;
+        if !shown {
+            self.events.resized = true;
+        }
+        Ok(())
+    }
+
+    /// The window image of the last frame (views, anaglyph and overlay), RGBA8, and its size.
+    pub fn read_window(&self, gpu: &Gpu) -> anyhow::Result<(Vec<u8>, (u32, u32))> {
+        let image = &self.output.composed;
+        Ok((gpu.read_image(image)?, (image.width(), image.height())))
+    }
+
+    /// Views (square, of the frame's side) centred in the window: one, or a pair laid out.
+    fn place_tiles(&mut self) {
+        let (w, h) = self.output.size();
+        let (w, h) = (w as i32, h as i32);
+        let fit = |columns: i32, rows: i32| (w / columns).min(h / rows).max(1);
+        let tiles = match (self.views, self.layout) {
+            (2, StereoLayout::SideBySide) => {
+                let side = fit(2, 1);
+                let (x, y) = ((w - 2 * side) / 2, (h - side) / 2);
+                vec![[x, y, side, side], [x + side, y, side, side]]
+            }
+            (2, StereoLayout::TopBottom) => {
+                let side = fit(1, 2);
+                let (x, y) = ((w - side) / 2, (h - 2 * side) / 2);
+                vec![[x, y, side, side], [x, y + side, side, side]]
+            }
+            _ => {
+                let side = fit(1, 1);
+                vec![[(w - side) / 2, (h - side) / 2, side, side]]
+            }
+        };
+        // The anaglyph mixes its two views into the first tile: only the left is blitted.
+        self.output.tiles = tiles
+            .into_iter()
+            .enumerate()
+            .map(|(view, rect)| Tile { view, rect })
+            .collect();
+    }
+}
