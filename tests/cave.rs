@@ -455,6 +455,53 @@ fn both_eyes_from_one_frame_pass_equal_one_node_per_eye_and_lay_out_for_viewing(
 }
 
 #[test]
+fn the_masters_window_shows_the_sync_and_its_keys_send_new_versions() {
+    let x = VirtualDisplay::start();
+    let dir = common::cli::scratch("cave", "console");
+    let report_path = dir.join("report.json");
+    let prefix = dir.join("master");
+    let mut all = vec!["cave-master", "--listen", "127.0.0.1:0", "--nodes", "1"];
+    all.extend([
+        "--frames",
+        "8",
+        "--window",
+        "--keys",
+        "right,right,d,pageup",
+    ]);
+    all.extend(["--report", report_path.to_str().unwrap()]);
+    all.extend(["--screenshot", prefix.to_str().unwrap()]);
+    let mut master = Process::spawn(
+        Command::new(env!("CARGO_BIN_EXE_vkgi"))
+            .args(&all)
+            .env("DISPLAY", &x.name),
+    );
+    let address = master
+        .wait_for("listening on")
+        .split_whitespace()
+        .nth(3)
+        .unwrap()
+        .to_string();
+    let node = node(&address, "front", &dir.join("node"), &[]);
+    assert_clean("master", &master.finish());
+    assert_clean("node", &node.finish());
+    // Frame 0 sends the head and the moved light (version 1); frames 1-3 are keyed (a
+    // version each); then nothing changes.
+    let versions: Vec<u64> = report(&report_path)["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["version"].as_u64().unwrap())
+        .collect();
+    assert_eq!(versions, [1, 2, 3, 4, 4, 4, 4, 4]);
+    let window = image::open(dir.join("master-window.png"))
+        .unwrap()
+        .to_rgba8();
+    let text = window.pixels().filter(|p| p[0] > 200 && p[1] > 200).count();
+    assert!(text > 500, "the overlay's text: {text} white pixels");
+    drop(x.server);
+}
+
+#[test]
 fn bad_master_and_node_input_is_refused_with_one_line() {
     let dir = common::cli::scratch("cave", "input");
     let bad_path = common::cli::write(&dir, "bad.txt", "0 0 0\n0 0 nan\n");

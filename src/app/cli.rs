@@ -281,8 +281,22 @@ pub struct CaveMasterArgs {
     /// Print a line per frame (sync latency and frame-lock wait).
     #[arg(long)]
     pub log_frames: bool,
+    /// Open the master's window: its overlay (frame, version, sync times, walls) and the
+    /// keyboard and mouse that move the head and the light.
+    #[arg(long)]
+    pub window: bool,
+    /// Press these keys, one per frame from the first, each held for that frame (as `vkgi
+    /// view --keys`; the master's keys: w a s d q e move the head, arrows and pageup/pagedown
+    /// the light, esc stops).
+    #[arg(long, value_delimiter = ',', value_parser = parse_key)]
+    pub keys: Vec<winit::keyboard::KeyCode>,
+    /// With --window: on stopping, save the master's window as PREFIX-window.png.
+    #[arg(long, value_name = "PREFIX", requires = "window")]
+    pub screenshot: Option<PathBuf>,
     #[command(flatten)]
     pub gi: GiArgs,
+    #[command(flatten)]
+    pub gpu: GpuArgs,
 }
 
 #[derive(Args, Debug, Clone)]

@@ -1,6 +1,7 @@
-//! A render node's window: its wall (one eye, or a stereo pair side by side, top-bottom or as a
-//! red-cyan anaglyph) with an overlay of the run's sync figures. The node's loop waits on the
-//! master, so winit's events are pumped between frames rather than driving them.
+//! A CAVE process's window. A render node's shows its wall (one eye, or a stereo pair side by
+//! side, top-bottom or as a red-cyan anaglyph) with an overlay of the run's sync figures; the
+//! master's shows its overlay alone and takes the keyboard and mouse. Both loops wait on the
+//! network, so winit's events are pumped between frames rather than driving them.
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -9,8 +10,9 @@ use anyhow::Context;
 use ash::vk;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::WindowEvent;
+use winit::event::{ElementState, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::platform::pump_events::EventLoopExtPumpEvents;
 use winit::raw_window_handle::{HasDisplayHandle, RawDisplayHandle};
 use winit::window::{Window, WindowId};
@@ -39,6 +41,12 @@ struct Events {
     error: Option<winit::error::OsError>,
     closed: bool,
     resized: bool,
+    /// Keys held down now.
+    held: Vec<KeyCode>,
+    /// Pointer travel while the left button was down since the last look, in pixels.
+    dragged: (f32, f32),
+    dragging: bool,
+    cursor: Option<(f32, f32)>,
 }
 
 impl ApplicationHandler for Events {
@@ -55,6 +63,30 @@ impl ApplicationHandler for Events {
         match event {
             WindowEvent::CloseRequested => self.closed = true,
             WindowEvent::Resized(_) => self.resized = true,
+            WindowEvent::KeyboardInput { event, .. } => {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    self.held.retain(|k| *k != code);
+                    if event.state == ElementState::Pressed {
+                        self.held.push(code);
+                    }
+                }
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                self.dragging = state == ElementState::Pressed;
+                self.cursor = None;
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                let now = (position.x as f32, position.y as f32);
+                if let (true, Some(last)) = (self.dragging, self.cursor) {
+                    self.dragged.0 += now.0 - last.0;
+                    self.dragged.1 += now.1 - last.1;
+                }
+                self.cursor = Some(now);
+            }
             _ => {}
         }
     }
@@ -81,6 +113,10 @@ impl Opened {
             error: None,
             closed: false,
             resized: false,
+            held: Vec::new(),
+            dragged: (0.0, 0.0),
+            dragging: false,
+            cursor: None,
         };
         for _ in 0..200 {
             event_loop.pump_app_events(Some(Duration::from_millis(10)), &mut events);
@@ -153,6 +189,80 @@ impl Display {
         !self.events.closed
     }
 
+    /// The keys held down now.
+    pub fn held_keys(&self) -> &[KeyCode] {
+        &self.events.held
+    }
+
+    /// How far the pointer was dragged (left button) since the last call, in pixels.
+    pub fn take_drag(&mut self) -> (f32, f32) {
+        std::mem::take(&mut self.events.dragged)
+    }
+
+    /// Show `lines` alone (the master's window: no views).
+    pub fn show_text(
+        &mut self,
+        gpu: &Gpu,
+        ring: &mut FrameRing,
+        lines: &[String],
+    ) -> anyhow::Result<()> {
+        self.resize_if_needed(gpu, ring)?;
+        let builder = ring.begin_frame()?;
+        let slot = builder.slot();
+        let Some(acquired) = self.output.acquire(slot)? else {
+            self.events.resized = true;
+            return Ok(builder.finish(gpu, &gpu.queues.graphics, &[], &[], |_| Ok(()))?);
+        };
+        self.overlay.set_text(slot, lines)?;
+        let waits = [SemaphoreWait {
+            semaphore: acquired.ready,
+            value: 0,
+            stage: vk::PipelineStageFlags2::BLIT | vk::PipelineStageFlags2::COMPUTE_SHADER,
+        }];
+        let (output, overlay) = (&self.output, &self.overlay);
+        builder.finish(
+            gpu,
+            &gpu.queues.graphics,
+            &waits,
+            &[(acquired.rendered, 0)],
+            |rec| {
+                rec.clear_image("clear window", &output.composed, [0.05, 0.05, 0.08, 1.0]);
+                overlay.record(rec, slot, &output.composed)?;
+                output.record_present(rec, &acquired);
+                Ok(())
+            },
+        )?;
+        self.present(gpu, acquired)
+    }
+
+    /// Rebuild the swapchain after the window changed size (or presenting found it stale).
+    fn resize_if_needed(&mut self, gpu: &Gpu, ring: &mut FrameRing) -> anyhow::Result<()> {
+        let size = self.output.window.inner_size();
+        if self.events.resized && size.width > 0 && size.height > 0 {
+            self.events.resized = false;
+            ring.finish()?;
+            gpu.wait_idle()?;
+            self.output.resize(gpu)?;
+            self.place_tiles();
+        }
+        Ok(())
+    }
+
+    fn present(
+        &mut self,
+        gpu: &Gpu,
+        acquired: crate::gpu::swapchain::Acquired,
+    ) -> anyhow::Result<()> {
+        let shown = crate::gpu::swapchain::Swapchain::present(
+            &gpu.queues.graphics,
+            &[(self.output.swapchain(), acquired)],
+        )?;
+        if !shown {
+            self.events.resized = true;
+        }
+        Ok(())
+    }
+
     /// Render `frame` and show it with `lines` over it. The GI method's state advances exactly
     /// as without a window: a frame whose swapchain is out of date is rendered all the same,
     /// only not shown (the swapchain is rebuilt for the next).
@@ -164,14 +274,7 @@ impl Display {
         gi: Option<&mut dyn GiMethod>,
         lines: &[String],
     ) -> anyhow::Result<()> {
-        let size = self.output.window.inner_size();
-        if self.events.resized && size.width > 0 && size.height > 0 {
-            self.events.resized = false;
-            ring.finish()?;
-            gpu.wait_idle()?;
-            self.output.resize(gpu)?;
-            self.place_tiles();
-        }
+        self.resize_if_needed(gpu, ring)?;
         let builder = ring.begin_frame()?;
         let slot = builder.slot();
         let Some(acquired) = self.output.acquire(slot)? else {
@@ -221,14 +324,7 @@ impl Display {
             record: &record,
         };
         frame.submit_frame(gpu, builder, gi, Some(&epilogue))?;
-        let shown = crate::gpu::swapchain::Swapchain::present(
-            &gpu.queues.graphics,
-            &[(self.output.swapchain(), acquired)],
-        )?;
-        if !shown {
-            self.events.resized = true;
-        }
-        Ok(())
+        self.present(gpu, acquired)
     }
 
     /// The window image of the last frame (views, anaglyph and overlay), RGBA8, and its size.

@@ -9,13 +9,21 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use serde::Serialize;
 
+use super::display::{Display, Opened};
+use super::input::Input;
 use super::path::TrackedPath;
 use super::protocol::{self, Link, LinkError, MasterMessage, NodeMessage};
+use super::stereo::StereoLayout;
 use super::{Pose, updates};
 use crate::app::cli::{CaveMasterArgs, OnLoss};
 use crate::app::method;
+use crate::gpu::frames::FrameRing;
+use crate::gpu::{Gpu, GpuOptions};
+use crate::imageio::ImageKind;
+use crate::render::runner::FRAMES_IN_FLIGHT;
 use crate::scene::Scene;
 use crate::view::cave::EyeChoice;
+use winit::keyboard::KeyCode;
 
 /// A node that joined.
 struct Node {
@@ -140,77 +148,49 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         differing_frames: Vec::new(),
     };
 
+    let scene_light = scene.lights.first().map(|l| l.position);
+    let diagonal = (scene.bounds_max - scene.bounds_min).length();
+    let mut input = Input::new(path, args.head, scene_light, diagonal);
+    let mut console = args.window.then(|| Console::open(args)).transpose()?;
     let mut sent: Option<Pose> = None;
     let mut version = 0u64;
-    let (mut last_sync, mut last_wait) = (0.0, 0.0);
+    let mut stopped = None;
     for frame in 0..args.frames {
-        let pose = match &path {
-            Some(path) => path.at(frame),
-            None => Pose {
-                head: args.head,
-                light: None,
-            },
-        };
+        let mut held: Vec<KeyCode> = args.keys.get(frame as usize).copied().into_iter().collect();
+        let mut dragged = (0.0, 0.0);
+        if let Some(console) = &mut console {
+            if !console.display.pump() {
+                stopped = Some("the master's window was closed");
+                break;
+            }
+            held.extend_from_slice(console.display.held_keys());
+            dragged = console.display.take_drag();
+        }
+        if held.contains(&KeyCode::Escape) {
+            stopped = Some("stopped from the master's keyboard");
+            break;
+        }
+        let pose = input.pose(frame, &held, dragged);
         let changes = updates(sent.as_ref(), &pose);
         let since = version;
         if !changes.is_empty() {
             version += 1;
         }
         sent = Some(pose);
+        let last = report.frames.last();
         let message = MasterMessage::Frame {
             frame,
             since,
             version,
             updates: changes,
-            sync_ms: last_sync,
-            lock_wait_ms: last_wait,
+            sync_ms: last.map_or(0.0, |r| r.sync_ms),
+            lock_wait_ms: last.map_or(0.0, |r| r.lock_wait_ms),
         };
-        let start = Instant::now();
-        let mut lost = Vec::new();
-        for (i, node) in nodes.iter_mut().enumerate() {
-            if let Err(e) = node.link.send(&message) {
-                lost.push((i, e.to_string()));
-            }
-        }
-        // Every node acknowledges the parameters before it renders, then reports the frame.
-        let mut sync_ms = 0.0f64;
-        for (i, node) in nodes.iter_mut().enumerate() {
-            if lost.iter().any(|(l, _)| *l == i) {
-                continue;
-            }
-            match expect_applied(&mut node.link, frame, version, node_timeout) {
-                Ok(()) => sync_ms = sync_ms.max(start.elapsed().as_secs_f64() * 1e3),
-                Err(e) => lost.push((i, e)),
-            }
-        }
-        let mut record = FrameRecord {
-            frame,
-            version,
-            sync_ms,
-            lock_wait_ms: 0.0,
-            render_ms: 0.0,
-            lattices: Vec::new(),
-        };
-        for (i, node) in nodes.iter_mut().enumerate() {
-            if lost.iter().any(|(l, _)| *l == i) {
-                continue;
-            }
-            match expect_finished(&mut node.link, frame, version, node_timeout) {
-                Ok((lattice, wait, render)) => {
-                    record.lock_wait_ms = record.lock_wait_ms.max(wait);
-                    record.render_ms = record.render_ms.max(render);
-                    record
-                        .lattices
-                        .push((node.name(), lattice.map(|d| format!("{d:016x}"))));
-                }
-                Err(e) => lost.push((i, e)),
-            }
-        }
-        let first = record.lattices.first().map(|(_, d)| d.clone());
+        let (record, lost) = run_frame(&mut nodes, &message, node_timeout);
         if record
             .lattices
             .iter()
-            .any(|(_, d)| Some(d) != first.as_ref())
+            .any(|(_, d)| *d != record.lattices[0].1)
         {
             report.differing_frames.push(frame);
         }
@@ -220,16 +200,18 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
                 record.sync_ms, record.lock_wait_ms, record.render_ms
             );
         }
-        (last_sync, last_wait) = (record.sync_ms, record.lock_wait_ms);
         report.frames.push(record);
-        lost.sort_by_key(|(i, _)| std::cmp::Reverse(*i));
-        for (i, why) in lost {
+        for (i, why) in lost.into_iter().rev() {
             let node = nodes.remove(i);
             println!(
                 "cave-master: lost the {} at frame {frame}: {why}",
                 node.name()
             );
             report.lost.push(node.name());
+        }
+        if let Some(console) = &mut console {
+            let lines = console_lines(&report, &nodes, &pose, args.frames);
+            console.show(&lines)?;
         }
         if !report.lost.is_empty() && args.on_loss == OnLoss::Stop {
             stop(
@@ -245,10 +227,151 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
             anyhow::bail!("every node was lost by frame {frame}");
         }
     }
-    stop(&mut nodes, "all frames done", node_timeout);
+    stop(
+        &mut nodes,
+        stopped.unwrap_or("all frames done"),
+        node_timeout,
+    );
     write_report(args, &report)?;
-    summarise(&report, args.frames);
+    if let (Some(console), Some(prefix)) = (&mut console, &args.screenshot) {
+        console.save(prefix)?;
+    }
+    summarise(&report);
+    if let Some(console) = &console {
+        crate::app::render::check_validation(&console.gpu)?;
+    }
     Ok(())
+}
+
+/// Send one frame to every node, then wait (each at most `timeout`) for every node to hold its
+/// parameters and to finish it. Returns the frame's record and the nodes lost on the way (their
+/// indices, ascending, and why).
+fn run_frame(
+    nodes: &mut [Node],
+    message: &MasterMessage,
+    timeout: Duration,
+) -> (FrameRecord, Vec<(usize, String)>) {
+    let &MasterMessage::Frame { frame, version, .. } = message else {
+        unreachable!("run_frame sends frames only");
+    };
+    let start = Instant::now();
+    let mut lost: Vec<(usize, String)> = Vec::new();
+    for (i, node) in nodes.iter_mut().enumerate() {
+        if let Err(e) = node.link.send(message) {
+            lost.push((i, describe(e)));
+        }
+    }
+    let is_lost = |lost: &[(usize, String)], i: usize| lost.iter().any(|(l, _)| *l == i);
+    // Every node acknowledges the parameters before it renders, then reports the frame.
+    let mut record = FrameRecord {
+        frame,
+        version,
+        sync_ms: 0.0,
+        lock_wait_ms: 0.0,
+        render_ms: 0.0,
+        lattices: Vec::new(),
+    };
+    for (i, node) in nodes.iter_mut().enumerate() {
+        if is_lost(&lost, i) {
+            continue;
+        }
+        match expect_applied(&mut node.link, frame, version, timeout) {
+            Ok(()) => record.sync_ms = record.sync_ms.max(start.elapsed().as_secs_f64() * 1e3),
+            Err(e) => lost.push((i, e)),
+        }
+    }
+    for (i, node) in nodes.iter_mut().enumerate() {
+        if is_lost(&lost, i) {
+            continue;
+        }
+        match expect_finished(&mut node.link, frame, version, timeout) {
+            Ok((lattice, wait, render)) => {
+                record.lock_wait_ms = record.lock_wait_ms.max(wait);
+                record.render_ms = record.render_ms.max(render);
+                let digest = lattice.map(|d| format!("{d:016x}"));
+                record.lattices.push((node.name(), digest));
+            }
+            Err(e) => lost.push((i, e)),
+        }
+    }
+    lost.sort_by_key(|(i, _)| *i);
+    (record, lost)
+}
+
+/// The master's window: a device only for its overlay, and the keyboard and mouse.
+struct Console {
+    // Field order is drop order: the window's GPU objects, then the ring, then the device.
+    display: Display,
+    ring: FrameRing,
+    gpu: Gpu,
+}
+
+impl Console {
+    fn open(args: &CaveMasterArgs) -> anyhow::Result<Console> {
+        if let Some(prefix) = &args.screenshot {
+            crate::imageio::check_image_output(&window_png(prefix), ImageKind::Ldr)?;
+        }
+        let opened = Opened::new("vkgi: CAVE master", (640, 360))?;
+        let gpu = Gpu::new(&GpuOptions {
+            display: Some(opened.display()?),
+            ..args.gpu.options()
+        })
+        .context("setting up the master's window")?;
+        let ring = FrameRing::new(&gpu, FRAMES_IN_FLIGHT)?;
+        let display = Display::new(&gpu, opened, 0, StereoLayout::SideBySide, FRAMES_IN_FLIGHT)?;
+        Ok(Console { display, ring, gpu })
+    }
+
+    fn show(&mut self, lines: &[String]) -> anyhow::Result<()> {
+        self.display.show_text(&self.gpu, &mut self.ring, lines)
+    }
+
+    fn save(&mut self, prefix: &std::path::Path) -> anyhow::Result<()> {
+        self.ring.finish()?;
+        let (pixels, (w, h)) = self.display.read_window(&self.gpu)?;
+        let path = window_png(prefix);
+        crate::imageio::write_png(&path, w, h, &pixels)?;
+        println!("cave-master: saved {}", path.display());
+        Ok(())
+    }
+}
+
+fn window_png(prefix: &std::path::Path) -> std::path::PathBuf {
+    let mut name = prefix.as_os_str().to_owned();
+    name.push("-window.png");
+    name.into()
+}
+
+/// The master's overlay: the run, the last frame's sync figures, the walls, the pose, the keys.
+fn console_lines(report: &Report, nodes: &[Node], pose: &Pose, frames: u64) -> Vec<String> {
+    let mut lines = vec![format!(
+        "CAVE MASTER  {} NODE(S)  {} LOST",
+        nodes.len(),
+        report.lost.len()
+    )];
+    if let Some(last) = report.frames.last() {
+        lines.push(format!(
+            "FRAME {} OF {frames}  VERSION {}",
+            last.frame + 1,
+            last.version
+        ));
+        lines.push(format!(
+            "SYNC {:.3} MS  LOCK WAIT {:.3} MS  SLOWEST RENDER {:.1} MS",
+            last.sync_ms, last.lock_wait_ms, last.render_ms
+        ));
+    }
+    let names: Vec<String> = nodes.iter().map(Node::name).collect();
+    lines.push(names.join(", ").to_uppercase());
+    if !report.lost.is_empty() {
+        lines.push(format!("LOST: {}", report.lost.join(", ")).to_uppercase());
+    }
+    let h = pose.head;
+    lines.push(format!("HEAD {:.2} {:.2} {:.2}", h.x, h.y, h.z));
+    if let Some(l) = pose.light {
+        lines.push(format!("LIGHT {:.3} {:.3} {:.3}", l.x, l.y, l.z));
+    }
+    lines.push(super::input::HELP.into());
+    lines
 }
 
 /// The method's settings for every node, with the deterministic injection where the method has
@@ -423,7 +546,8 @@ fn write_report(args: &CaveMasterArgs, report: &Report) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn summarise(report: &Report, frames: u64) {
+fn summarise(report: &Report) {
+    let frames = report.frames.len();
     let median = |mut values: Vec<f64>| {
         values.sort_by(f64::total_cmp);
         values.get(values.len() / 2).copied().unwrap_or(0.0)

@@ -8,6 +8,7 @@
 //! * `master`, `node`: `vkgi cave-master` and `vkgi cave-node`.
 
 pub mod display;
+pub mod input;
 pub mod master;
 pub mod node;
 pub mod path;
