@@ -296,6 +296,61 @@ fn four_nodes_render_the_single_process_cave_tiles_bit_for_bit() {
     drop(x.server);
 }
 
+/// Spec 000 §11.4 and issue 17 item 3: three nodes carry bit-identical lattices on every frame,
+/// and with --edge-pixels (the outer pixel centres on the wall edges) the indirect light two
+/// walls draw along their shared edge agrees to float rounding of the rasterised positions.
+#[test]
+fn three_nodes_agree_on_their_lattices_and_along_their_shared_edges() {
+    let dir = common::cli::scratch("cave", "seams");
+    let report_path = dir.join("report.json");
+    let (master, address) = master(&[
+        "--nodes",
+        "3",
+        "--frames",
+        "12",
+        "--edge-pixels",
+        "--report",
+        report_path.to_str().unwrap(),
+    ]);
+    let walls = ["left", "front", "right"];
+    let nodes: Vec<Process> = walls
+        .iter()
+        .map(|wall| node(&address, wall, &dir.join("node"), &["--indirect-only"]))
+        .collect();
+    assert_clean("master", &master.finish());
+    for (wall, node) in walls.iter().zip(nodes) {
+        assert_clean(wall, &node.finish());
+    }
+    assert_lattices_agree(&report(&report_path), 3, 12);
+    let image =
+        |wall: &str| vkgi::imageio::read_hdr(&dir.join(format!("node-{wall}.exr")), false).unwrap();
+    let (left, front, right) = (image("left"), image("front"), image("right"));
+    let n = front.width;
+    let column = |image: &vkgi::imageio::HdrImage, x: u32| -> Vec<[f32; 3]> {
+        (0..n).map(|y| image.at(x, y)).collect()
+    };
+    // Summed |a - b| over the summed mean, every channel of every pixel along the edge.
+    let difference = |a: Vec<[f32; 3]>, b: Vec<[f32; 3]>| {
+        let pairs = a.iter().flatten().zip(b.iter().flatten());
+        let (diff, mean) = pairs.fold((0.0, 0.0), |(d, m), (x, y)| {
+            (d + f64::from((x - y).abs()), m + 0.5 * f64::from(x + y))
+        });
+        assert!(mean > 0.0, "the edge is lit");
+        diff / mean
+    };
+    let front_right = difference(column(&front, n - 1), column(&right, 0));
+    let left_front = difference(column(&left, n - 1), column(&front, 0));
+    let apart = difference(column(&front, 0), column(&front, n - 1));
+    println!(
+        "shared edges: front|right {front_right:.2e}, left|front {left_front:.2e}; apart {apart:.2}"
+    );
+    assert!(
+        front_right < 1e-6 && left_front < 1e-6,
+        "{front_right} {left_front}"
+    );
+    assert!(apart > 0.1, "edges that do not meet differ: {apart}");
+}
+
 #[test]
 fn a_killed_node_is_named_and_the_others_finish_with_identical_lattices() {
     let dir = common::cli::scratch("cave", "killed");

@@ -266,6 +266,10 @@ pub struct CaveMasterArgs {
     /// a 3 m CAVE is 0.022).
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.022)]
     pub eye_separation: f32,
+    /// Nodes draw their walls half a pixel wider on every side, so the outer pixel centres lie
+    /// on the edges and walls that meet both draw their shared edge (overlapping projectors).
+    #[arg(long)]
+    pub edge_pixels: bool,
     /// Seconds to wait for all nodes to join.
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub join_timeout: f64,

@@ -118,6 +118,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         settings: settings.clone(),
         cave_size: args.cave_size,
         eye_separation: args.eye_separation,
+        edge_pixels: args.edge_pixels,
     };
     let joined = Instant::now();
     let mut nodes = join(&listener, args, &scene_digest, &welcome, join_timeout)?;

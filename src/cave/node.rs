@@ -63,19 +63,21 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         scene: crate::reference::cache::scene_hash(&scene),
         scene_name: scene.name.clone(),
     })?;
-    let (method_name, settings, cave_size, separation) = match link.receive(master_timeout) {
+    let welcome = match link.receive(master_timeout) {
         Ok(MasterMessage::Welcome {
             method,
             settings,
             cave_size,
             eye_separation,
-        }) => (method, settings, cave_size, eye_separation),
+            edge_pixels,
+        }) => (method, settings, cave_size, eye_separation, edge_pixels),
         Ok(MasterMessage::Refused { reason }) => {
             crate::bad_input!("refused by the master: {reason}")
         }
         Ok(other) => anyhow::bail!("the master began with {other:?} instead of a welcome"),
         Err(e) => anyhow::bail!("no welcome from the master at {}: {e}", args.master),
     };
+    let (method_name, settings, cave_size, separation, edge_pixels) = welcome;
     if !(cave_size.is_finite() && cave_size > 0.0 && cave_size <= 100.0) {
         anyhow::bail!("the master sent a CAVE size of {cave_size}");
     }
@@ -101,7 +103,11 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     };
     let views = |cave: &mut Cave, scene: &Scene| {
         cave.follow(&fly);
-        eye.eyes(cave, scene, &cave.all_walls()[wall.index()], separation)
+        let mut drawn = cave.all_walls()[wall.index()];
+        if edge_pixels {
+            drawn = drawn.edge_centred(side);
+        }
+        eye.eyes(cave, scene, &drawn, separation)
     };
     let first_eyes = views(&mut cave, &scene);
     let mut frame = Frame::with_eyes(&gpu, &scene, options, &first_eyes)?;

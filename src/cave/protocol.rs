@@ -67,6 +67,9 @@ pub enum MasterMessage {
         cave_size: f32,
         /// The distance between the eyes, as a fraction of the wall size.
         eye_separation: f32,
+        /// Walls are drawn with their outer pixel centres on their edges
+        /// (`Wall::edge_centred`).
+        edge_pixels: bool,
     },
     /// The node cannot join (another build or scene, a wall already taken), in one line.
     Refused { reason: String },

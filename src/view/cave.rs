@@ -18,6 +18,22 @@ pub struct Wall {
     pub up: Vec3,
 }
 
+impl Wall {
+    /// The wall widened by half a pixel of an image `pixels` wide on every side, so that the
+    /// image's first and last pixel centres lie on the wall's edges: two walls that meet then
+    /// draw their shared edge in both images, through the same points (projectors that overlap
+    /// by a pixel).
+    pub fn edge_centred(&self, pixels: u32) -> Wall {
+        let half = 0.5 / (pixels.max(2) - 1) as f32;
+        Wall {
+            name: self.name,
+            corner: self.corner - (self.right + self.up) * half,
+            right: self.right * (1.0 + 2.0 * half),
+            up: self.up * (1.0 + 2.0 * half),
+        }
+    }
+}
+
 /// A wall's name, as `vkgi cave-node --wall` takes it.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WallName {
@@ -343,6 +359,36 @@ mod tests {
                 wall.name
             );
             assert!((0.0..1.0).contains(&lower_left.z));
+        }
+    }
+
+    #[test]
+    fn edge_centred_walls_put_the_outer_pixel_centres_on_the_edges() {
+        let c = cave(Vec3::new(0.3, -0.2, 0.4));
+        let n = 48u32;
+        for wall in c.all_walls() {
+            let m = off_axis(c.head(), &wall.edge_centred(n), 0.01, 100.0);
+            let pixel = |p: Vec3| {
+                let clip = m * p.extend(1.0);
+                let ndc = clip.truncate() / clip.w;
+                // Pixel coordinates whose centres are k + 0.5.
+                (
+                    (ndc.x + 1.0) * 0.5 * n as f32,
+                    (ndc.y + 1.0) * 0.5 * n as f32,
+                )
+            };
+            let (x0, y0) = pixel(wall.corner);
+            let (x1, y1) = pixel(wall.corner + wall.right + wall.up);
+            assert!(
+                (x0 - 0.5).abs() < 1e-3 && (y0 - (n as f32 - 0.5)).abs() < 1e-3,
+                "{}",
+                wall.name
+            );
+            assert!(
+                (x1 - (n as f32 - 0.5)).abs() < 1e-3 && (y1 - 0.5).abs() < 1e-3,
+                "{}",
+                wall.name
+            );
         }
     }
 
