@@ -556,6 +556,59 @@ fn the_masters_window_shows_the_sync_and_its_keys_send_new_versions() {
     drop(x.server);
 }
 
+/// A node of another build is refused in one line (a raw client speaks the protocol), and
+/// with --on-loss stop the master stops the others cleanly when one is lost.
+#[test]
+fn another_build_is_refused_and_on_loss_stop_stops_every_node() {
+    use vkgi::cave::protocol::{Link, MasterMessage, NodeMessage};
+    use vkgi::view::cave::EyeChoice;
+    let dir = common::cli::scratch("cave", "stop");
+    let (mut master, address) = master(&[
+        "--nodes",
+        "2",
+        "--frames",
+        "200",
+        "--log-frames",
+        "--on-loss",
+        "stop",
+    ]);
+    let mut old = Link::new(std::net::TcpStream::connect(&address).unwrap()).unwrap();
+    old.send(&NodeMessage::Hello {
+        build: "vkgi 0.0.1 protocol 0".into(),
+        wall: "back".into(),
+        eye: EyeChoice::Mono,
+        scene: "0".into(),
+        scene_name: "cornell".into(),
+    })
+    .unwrap();
+    match old.receive::<MasterMessage>(DEADLINE).unwrap() {
+        MasterMessage::Refused { reason } => {
+            assert!(
+                reason.contains("its build is 'vkgi 0.0.1 protocol 0'"),
+                "{reason}"
+            )
+        }
+        other => panic!("{other:?}"),
+    }
+    let front = node(&address, "front", &dir.join("node"), &[]);
+    let floor = node(&address, "floor", &dir.join("node"), &[]);
+    master.wait_for("cave-master: frame 3 ");
+    floor.signal("-KILL");
+    master.wait_for("lost the floor wall");
+    let (code, _, stderr) = master.finish();
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(
+        stderr.contains("stopped after losing the floor wall"),
+        "{stderr}"
+    );
+    let (code, lines, stderr) = front.finish();
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(
+        lines.iter().any(|l| l.contains("a wall was lost")),
+        "{lines:?}"
+    );
+}
+
 #[test]
 fn bad_master_and_node_input_is_refused_with_one_line() {
     let dir = common::cli::scratch("cave", "input");
