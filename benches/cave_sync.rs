@@ -72,6 +72,7 @@ fn main() -> anyhow::Result<()> {
             let (wall, eye) = (WALLS[i / 2], EYES[i % 2]);
             nodes.push(spawn(&[
                 "cave-node",
+                "--headless",
                 "--master",
                 &address,
                 "--wall",
@@ -83,7 +84,7 @@ fn main() -> anyhow::Result<()> {
             ])?);
         }
         for line in lines.map_while(Result::ok) {
-            if line.contains("refused") || line.contains("lost") {
+            if line.contains("refused") || line.contains("lost the") {
                 eprintln!("{line}");
             }
         }

@@ -613,6 +613,19 @@ fn another_build_is_refused_and_on_loss_stop_stops_every_node() {
 fn bad_master_and_node_input_is_refused_with_one_line() {
     let dir = common::cli::scratch("cave", "input");
     let bad_path = common::cli::write(&dir, "bad.txt", "0 0 0\n0 0 nan\n");
+    // A node that is to open a window needs a display; it says so before joining anything.
+    let output = Command::new(env!("CARGO_BIN_EXE_vkgi"))
+        .args(["cave-node", "--wall", "front", "--connect-timeout", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("needs a display") && stderr.lines().count() == 1,
+        "{stderr}"
+    );
     for (args, needle) in [
         (
             vec!["cave-master", "--nodes", "2", "--path", &bad_path],

@@ -5,7 +5,7 @@
 //! with a digest of its GI method's lattices. It renders headless; --screenshot saves its wall
 //! when the master stops the run.
 
-use std::net::{TcpStream, ToSocketAddrs};
+use std::net::{SocketAddr, TcpStream, ToSocketAddrs};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -55,7 +55,13 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     let mut scene = Scene::load(&args.scene)?;
     scene.area_samples = args.frame.area_samples;
 
-    let mut link = connect(&args.master, connect_timeout, &tag)?;
+    let master = resolve(&args.master)?;
+    // The window opens first: a node that cannot show its wall never joins the run.
+    let opened = match args.headless {
+        true => None,
+        false => Some(Opened::new(&format!("vkgi: {tag}"), args.frame.size)?),
+    };
+    let mut link = connect(master, &args.master, connect_timeout, &tag)?;
     link.send(&NodeMessage::Hello {
         build: protocol::build(),
         wall: wall.name().into(),
@@ -86,10 +92,6 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     }
     let chosen = method::choose(&method_name, &settings)?;
 
-    let opened = match args.headless {
-        true => None,
-        false => Some(Opened::new(&format!("vkgi: {tag}"), args.frame.size)?),
-    };
     let gpu = Gpu::new(&GpuOptions {
         display: opened.as_ref().map(Opened::display).transpose()?,
         ..args.gpu.options()
@@ -357,15 +359,25 @@ impl Screenshot {
     }
 }
 
-/// Connect to the master, trying again until `timeout` (a node may start before its master).
-fn connect(address: &str, timeout: Duration, tag: &str) -> anyhow::Result<Link> {
+/// The master's socket address.
+fn resolve(address: &str) -> anyhow::Result<SocketAddr> {
     let addresses: Vec<_> = address
         .to_socket_addrs()
         .map_err(|e| crate::error::InputError::new(format!("--master {address}: {e}")))?
         .collect();
-    let Some(&target) = addresses.first() else {
-        crate::bad_input!("--master {address} names no address");
-    };
+    match addresses.first() {
+        Some(&target) => Ok(target),
+        None => crate::bad_input!("--master {address} names no address"),
+    }
+}
+
+/// Connect to the master, trying again until `timeout` (a node may start before its master).
+fn connect(
+    target: SocketAddr,
+    address: &str,
+    timeout: Duration,
+    tag: &str,
+) -> anyhow::Result<Link> {
     let deadline = Instant::now() + timeout;
     let mut said_waiting = false;
     loop {
