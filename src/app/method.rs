@@ -31,6 +31,28 @@ pub fn choose(name: &str, overrides: &[(String, String)]) -> anyhow::Result<Opti
     Ok(Some(Chosen { entry, settings }))
 }
 
+/// Build the chosen method, if any (None: direct light only).
+pub fn build_if_chosen(
+    gpu: &Gpu,
+    scene: &Scene,
+    chosen: Option<&Chosen>,
+) -> anyhow::Result<Option<Box<dyn GiMethod>>> {
+    chosen.map(|c| build(gpu, scene, c, None)).transpose()
+}
+
+/// Build the chosen method again for a changed scene (see `runner::follow`); an error without
+/// one, since nothing then asks to be rebuilt.
+pub fn rebuild(
+    gpu: &Gpu,
+    scene: &Scene,
+    chosen: Option<&Chosen>,
+) -> anyhow::Result<Box<dyn GiMethod>> {
+    match chosen {
+        Some(c) => build(gpu, scene, c, None),
+        None => anyhow::bail!("no GI method to build"),
+    }
+}
+
 /// Build the chosen method, showing its set-up progress.
 pub fn build(
     gpu: &Gpu,

@@ -37,14 +37,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     };
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
     let mut frame = Frame::new(&gpu, &scene, args.frame.options())?;
-    let mut gi = match &chosen {
-        Some(c) => Some(method::build(&gpu, &scene, c, None)?),
-        None => None,
-    };
-    let rebuild = |scene: &Scene| match &chosen {
-        Some(c) => method::build(&gpu, scene, c, None),
-        None => anyhow::bail!("no GI method to build"),
-    };
+    let mut gi = method::build_if_chosen(&gpu, &scene, chosen.as_ref())?;
+    let rebuild = |scene: &Scene| method::rebuild(&gpu, scene, chosen.as_ref());
     let mut ring = run_animation(&gpu, &mut frame, &mut scene, gi.as_mut(), &rebuild, frames)?;
     ring.profiler.add_note(scene.statistics());
     check_validation(&gpu)?;

@@ -19,7 +19,8 @@ use winit::window::{Window, WindowId};
 
 use super::stereo::StereoLayout;
 use crate::gi::GiMethod;
-use crate::gpu::frames::{FrameRing, SemaphoreWait};
+use crate::gpu::frames::{FrameBuilder, FrameRing, SemaphoreWait};
+use crate::gpu::swapchain::Acquired;
 use crate::gpu::{Binding, ComputePass, ComputePipeline, Gpu, Specialization};
 use crate::render::{Epilogue, Frame};
 use crate::shader_shared as ids;
@@ -206,11 +207,9 @@ impl Display {
         ring: &mut FrameRing,
         lines: &[String],
     ) -> anyhow::Result<()> {
-        self.resize_if_needed(gpu, ring)?;
-        let builder = ring.begin_frame()?;
+        let (builder, acquired) = self.begin(gpu, ring)?;
         let slot = builder.slot();
-        let Some(acquired) = self.output.acquire(slot)? else {
-            self.events.resized = true;
+        let Some(acquired) = acquired else {
             return Ok(builder.finish(gpu, &gpu.queues.graphics, &[], &[], |_| Ok(()))?);
         };
         self.overlay.set_text(slot, lines)?;
@@ -235,8 +234,14 @@ impl Display {
         self.present(gpu, acquired)
     }
 
-    /// Rebuild the swapchain after the window changed size (or presenting found it stale).
-    fn resize_if_needed(&mut self, gpu: &Gpu, ring: &mut FrameRing) -> anyhow::Result<()> {
+    /// Begin a frame: rebuild the swapchain if the window changed size (or presenting found it
+    /// stale), then acquire an image (None when it is out of date: the frame is rendered but
+    /// not shown, and the swapchain rebuilt for the next).
+    fn begin<'r>(
+        &mut self,
+        gpu: &Gpu,
+        ring: &'r mut FrameRing,
+    ) -> anyhow::Result<(FrameBuilder<'r>, Option<Acquired>)> {
         let size = self.output.window.inner_size();
         if self.events.resized && size.width > 0 && size.height > 0 {
             self.events.resized = false;
@@ -245,14 +250,15 @@ impl Display {
             self.output.resize(gpu)?;
             self.place_tiles();
         }
-        Ok(())
+        let builder = ring.begin_frame()?;
+        let acquired = self.output.acquire(builder.slot())?;
+        if acquired.is_none() {
+            self.events.resized = true;
+        }
+        Ok((builder, acquired))
     }
 
-    fn present(
-        &mut self,
-        gpu: &Gpu,
-        acquired: crate::gpu::swapchain::Acquired,
-    ) -> anyhow::Result<()> {
+    fn present(&mut self, gpu: &Gpu, acquired: Acquired) -> anyhow::Result<()> {
         let shown = crate::gpu::swapchain::Swapchain::present(
             &gpu.queues.graphics,
             &[(self.output.swapchain(), acquired)],
@@ -274,11 +280,9 @@ impl Display {
         gi: Option<&mut dyn GiMethod>,
         lines: &[String],
     ) -> anyhow::Result<()> {
-        self.resize_if_needed(gpu, ring)?;
-        let builder = ring.begin_frame()?;
+        let (builder, acquired) = self.begin(gpu, ring)?;
         let slot = builder.slot();
-        let Some(acquired) = self.output.acquire(slot)? else {
-            self.events.resized = true;
+        let Some(acquired) = acquired else {
             return Ok(frame.submit_frame(gpu, builder, gi, None)?);
         };
         self.overlay.set_text(slot, lines)?;

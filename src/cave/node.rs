@@ -113,14 +113,8 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     };
     let first_eyes = views(&mut cave, &scene);
     let mut frame = Frame::with_eyes(&gpu, &scene, options, &first_eyes)?;
-    let mut gi = match &chosen {
-        Some(c) => Some(method::build(&gpu, &scene, c, None)?),
-        None => None,
-    };
-    let rebuild = |scene: &Scene| match &chosen {
-        Some(c) => method::build(&gpu, scene, c, None),
-        None => anyhow::bail!("no GI method to build"),
-    };
+    let mut gi = method::build_if_chosen(&gpu, &scene, chosen.as_ref())?;
+    let rebuild = |scene: &Scene| method::rebuild(&gpu, scene, chosen.as_ref());
     let mut ring = FrameRing::new(&gpu, FRAMES_IN_FLIGHT)?;
     let mut display = opened
         .map(|o| Display::new(&gpu, o, first_eyes.len(), args.stereo, FRAMES_IN_FLIGHT))
