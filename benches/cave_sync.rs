@@ -24,6 +24,10 @@ fn main() -> anyhow::Result<()> {
         None => vec![2, 4, 8],
     };
     let frames: u32 = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(60);
+    anyhow::ensure!(
+        counts.iter().all(|&c| (1..=12).contains(&c)) && frames >= 2,
+        "1 to 12 nodes (6 walls, 2 eyes each) and at least 2 frames"
+    );
     let dir = std::env::temp_dir().join(format!("vkgi-cave-sync-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
     let path = dir.join("path.txt");
@@ -67,7 +71,6 @@ fn main() -> anyhow::Result<()> {
             .ok_or_else(|| anyhow::anyhow!("the master said '{first}'"))?
             .to_string();
         let mut nodes = Vec::new();
-        anyhow::ensure!(count <= 12, "at most 12 nodes: 6 walls, 2 eyes each");
         for i in 0..count {
             let (wall, eye) = (WALLS[i / 2], EYES[i % 2]);
             nodes.push(spawn(&[
@@ -97,7 +100,7 @@ fn main() -> anyhow::Result<()> {
         let column = |key: &str| -> Vec<f64> {
             json["frames"]
                 .as_array()
-                .map(|f| f[1..].iter().filter_map(|r| r[key].as_f64()).collect())
+                .map(|f| f.iter().skip(1).filter_map(|r| r[key].as_f64()).collect())
                 .unwrap_or_default()
         };
         let (sync, wait, render) = (

@@ -360,12 +360,12 @@ fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_li
     common::assert_no_validation_errors(&gpu);
 }
 
-/// Seed 000 §11.4: a CAVE's nodes must carry bit-identical lattices. Two devices run eight ILPV
-/// frames (the light carried across frames, a moved light in between) with the fixed-point
+/// Seed 000 §11.4: a CAVE's nodes must carry bit-identical lattices. Two logical devices (of
+/// this driver) run eight ILPV frames (the light carried across frames, a moved light in between) with the fixed-point
 /// injection and must agree to the bit; the float-atomic injection agrees with them to float
 /// rounding.
 #[test]
-fn fixed_point_injection_gives_the_same_bits_on_every_device_and_matches_float_atomics() {
+fn fixed_point_injection_gives_the_same_bits_on_two_devices_and_matches_float_atomics() {
     use vkgi::gi::lpv::Injection;
     let scene = Scene::load("cornell").unwrap();
     let settings = |injection| LpvSettings {

@@ -285,6 +285,10 @@ pub struct CaveMasterArgs {
     /// Print a line per frame (sync latency and frame-lock wait).
     #[arg(long)]
     pub log_frames: bool,
+    /// What every node draws with (exposure, shadow maps, indirect light only, area samples,
+    /// parts); --size is the master's window.
+    #[command(flatten)]
+    pub frame: FrameArgs,
     /// Open the master's window: its overlay (frame, version, sync times, walls) and the
     /// keyboard and mouse that move the head and the light.
     #[arg(long)]
@@ -335,8 +339,10 @@ pub struct CaveNodeArgs {
     /// Seconds to wait for the master's next message before giving up on it.
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     pub master_timeout: f64,
-    #[command(flatten)]
-    pub frame: FrameArgs,
+    /// The node's window as WIDTHxHEIGHT; its views are the largest squares that fit (the
+    /// master sets everything else the frame is drawn with).
+    #[arg(long, default_value = "640x640", value_parser = parse_size, allow_hyphen_values = true)]
+    pub size: (u32, u32),
     #[command(flatten)]
     pub gpu: GpuArgs,
 }

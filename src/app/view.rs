@@ -91,15 +91,10 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     if args.frames == Some(0) {
         crate::bad_input!("--frames must be at least 1");
     }
-    if !(args.cave_size.is_finite() && args.cave_size > 0.0 && args.cave_size <= 100.0) {
-        crate::bad_input!("--cave-size must be in (0, 100]");
-    }
+    crate::view::cave::check_size(args.cave_size)?;
     let tracked = args.path.as_deref().map(TrackedPath::load).transpose()?;
-    if tracked.as_ref().is_some_and(TrackedPath::moves_light) && scene.lights.is_empty() {
-        crate::bad_input!(
-            "the path moves the first light, but scene '{}' has no point or spot light",
-            scene.name
-        );
+    if let Some(path) = &tracked {
+        path.check_scene(&scene)?;
     }
     let (width, height) = args.frame.size;
     let limit = crate::render::MAX_IMAGE_SIDE;

@@ -31,7 +31,8 @@ use crate::view::overlay::Overlay;
 crate::push_constants! {
     struct AnaglyphPush {
         origin: [i32; 2],
-        size: [i32; 2],
+        tile: [i32; 2],
+        view_size: [i32; 2],
     }
 }
 
@@ -104,7 +105,7 @@ impl Opened {
     /// Open a window titled `title` of `width` x `height`.
     pub fn new(title: &str, (width, height): (u32, u32)) -> anyhow::Result<Opened> {
         let mut event_loop = EventLoop::new().context(
-            "a node's window needs a display (X11 or Wayland); without one use --headless",
+            "a window needs a display (X11 or Wayland): give a node --headless, and the master no --window",
         )?;
         let mut events = Events {
             attributes: Window::default_attributes()
@@ -296,13 +297,9 @@ impl Display {
         let record = |rec: &mut crate::gpu::Recorder, frame: &Frame| {
             output.record_compose(rec, frame);
             if let Some(pipeline) = anaglyph {
+                // The pair fills the first tile (inside the window: see `place_tiles`).
                 let rect = output.tiles[0].rect;
-                // Within the tile (the views are sized to it; a window resized smaller crops).
                 let view = &frame.views[0];
-                let size = [
-                    (view.width() as i32).min(rect[2]),
-                    (view.height() as i32).min(rect[3]),
-                ];
                 rec.compute(&ComputePass {
                     name: "anaglyph",
                     pipeline,
@@ -313,9 +310,10 @@ impl Display {
                     ],
                     push: &AnaglyphPush {
                         origin: [rect[0], rect[1]],
-                        size,
+                        tile: [rect[2], rect[3]],
+                        view_size: [view.width() as i32, view.height() as i32],
                     },
-                    threads: [size[0] as u32, size[1] as u32, 1],
+                    threads: [rect[2] as u32, rect[3] as u32, 1],
                 })?;
             }
             overlay.record(rec, slot, &output.composed)?;

@@ -1,7 +1,8 @@
 //! `vkgi cave-master`: waits for its nodes, then runs the frames. Each frame it sends every node
 //! the parameter updates since the last (a new version when anything changed), waits until all
 //! hold them (the parameter-sync latency) and all finished the frame, and only then releases
-//! the next: the frame lock. It needs no GPU: the nodes render.
+//! the next: the frame lock. The nodes render; the master uses a GPU only for its window's
+//! overlay (`--window`).
 
 use std::net::TcpListener;
 use std::time::{Duration, Instant};
@@ -33,15 +34,13 @@ struct Node {
 }
 
 impl Node {
-    /// The wall, and the eye where it is not mono (e.g. "front wall (left eye)").
     fn name(&self) -> String {
-        match self.eye {
-            EyeChoice::Mono => format!("{} wall", self.wall),
-            EyeChoice::Both => format!("{} wall (both eyes)", self.wall),
-            eye => format!("{} wall ({} eye)", self.wall, eye.name()),
-        }
+        super::node_name(&self.wall, self.eye)
     }
 }
+
+/// How long a new connection has to say hello.
+const HELLO_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// One frame as the master saw it.
 #[derive(Serialize)]
@@ -71,20 +70,12 @@ struct Report {
 }
 
 pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
-    let seconds = |value: f64, flag: &str| -> anyhow::Result<Duration> {
-        if !(value.is_finite() && value > 0.0 && value <= 86_400.0) {
-            crate::bad_input!("--{flag} must be in (0, 86400] seconds");
-        }
-        Ok(Duration::from_secs_f64(value))
-    };
-    let join_timeout = seconds(args.join_timeout, "join-timeout")?;
-    let node_timeout = seconds(args.node_timeout, "node-timeout")?;
+    let join_timeout = super::seconds(args.join_timeout, "join-timeout")?;
+    let node_timeout = super::seconds(args.node_timeout, "node-timeout")?;
     if args.frames == 0 {
         crate::bad_input!("--frames must be at least 1");
     }
-    if !(args.cave_size.is_finite() && args.cave_size > 0.0 && args.cave_size <= 100.0) {
-        crate::bad_input!("--cave-size must be in (0, 100]");
-    }
+    crate::view::cave::check_size(args.cave_size)?;
     if !(args.eye_separation.is_finite() && (0.0..=1.0).contains(&args.eye_separation)) {
         crate::bad_input!("--eye-separation must be in [0, 1] (a fraction of the wall size)");
     }
@@ -96,12 +87,11 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
     }
     let scene = Scene::load(&args.scene)?;
     let path = args.path.as_deref().map(TrackedPath::load).transpose()?;
-    if path.as_ref().is_some_and(TrackedPath::moves_light) && scene.lights.is_empty() {
-        crate::bad_input!(
-            "the path moves the first light, but scene '{}' has no point or spot light",
-            scene.name
-        );
+    if let Some(path) = &path {
+        path.check_scene(&scene)?;
     }
+    // The window opens before any node joins: a master without a display fails at once.
+    let mut console = args.window.then(|| Console::open(args)).transpose()?;
     let settings = deterministic(&args.gi.method, &args.gi.settings.values)?;
     let scene_digest = crate::reference::cache::scene_hash(&scene);
 
@@ -119,6 +109,9 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         cave_size: args.cave_size,
         eye_separation: args.eye_separation,
         edge_pixels: args.edge_pixels,
+        frame: args.frame.options(),
+        area_samples: args.frame.area_samples,
+        join_timeout_s: join_timeout.as_secs_f64(),
     };
     let joined = Instant::now();
     let mut nodes = join(&listener, args, &scene_digest, &welcome, join_timeout)?;
@@ -131,7 +124,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         match node.link.receive::<NodeMessage>(left) {
             Ok(NodeMessage::Ready) => {}
             Ok(other) => lost_at_setup.push((node.name(), format!("it answered {other:?}"))),
-            Err(e) => lost_at_setup.push((node.name(), describe(e))),
+            Err(e) => lost_at_setup.push((node.name(), describe(e, left))),
         }
     }
     if let Some((wall, why)) = lost_at_setup.first() {
@@ -152,7 +145,6 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
     let scene_light = scene.lights.first().map(|l| l.position);
     let diagonal = (scene.bounds_max - scene.bounds_min).length();
     let mut input = Input::new(path, args.head, scene_light, diagonal);
-    let mut console = args.window.then(|| Console::open(args)).transpose()?;
     let mut sent: Option<Pose> = None;
     let mut version = 0u64;
     let mut stopped = None;
@@ -244,8 +236,9 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Send one frame to every node, then wait (each at most `timeout`) for every node to hold its
-/// parameters and to finish it. Returns the frame's record and the nodes lost on the way (their
+/// Send one frame to every node, then wait (at most `timeout` for all of them together, per
+/// step) for every node to hold its parameters, then to finish it: k silent nodes cost one
+/// timeout, not k. Returns the frame's record and the nodes lost on the way (their
 /// indices, ascending, and why).
 fn run_frame(
     nodes: &mut [Node],
@@ -259,7 +252,7 @@ fn run_frame(
     let mut lost: Vec<(usize, String)> = Vec::new();
     for (i, node) in nodes.iter_mut().enumerate() {
         if let Err(e) = node.link.send(message) {
-            lost.push((i, describe(e)));
+            lost.push((i, describe(e, timeout)));
         }
     }
     let is_lost = |lost: &[(usize, String)], i: usize| lost.iter().any(|(l, _)| *l == i);
@@ -272,20 +265,22 @@ fn run_frame(
         render_ms: 0.0,
         lattices: Vec::new(),
     };
+    let deadline = start + timeout;
     for (i, node) in nodes.iter_mut().enumerate() {
         if is_lost(&lost, i) {
             continue;
         }
-        match expect_applied(&mut node.link, frame, version, timeout) {
+        match expect_applied(&mut node.link, frame, version, left(deadline), timeout) {
             Ok(()) => record.sync_ms = record.sync_ms.max(start.elapsed().as_secs_f64() * 1e3),
             Err(e) => lost.push((i, e)),
         }
     }
+    let deadline = Instant::now() + timeout;
     for (i, node) in nodes.iter_mut().enumerate() {
         if is_lost(&lost, i) {
             continue;
         }
-        match expect_finished(&mut node.link, frame, version, timeout) {
+        match expect_finished(&mut node.link, frame, version, left(deadline), timeout) {
             Ok((lattice, wait, render)) => {
                 record.lock_wait_ms = record.lock_wait_ms.max(wait);
                 record.render_ms = record.render_ms.max(render);
@@ -297,6 +292,13 @@ fn run_frame(
     }
     lost.sort_by_key(|(i, _)| *i);
     (record, lost)
+}
+
+/// The time to `deadline`, but enough for one look at what a node already sent.
+fn left(deadline: Instant) -> Duration {
+    deadline
+        .saturating_duration_since(Instant::now())
+        .max(Duration::from_millis(20))
 }
 
 /// The master's window: a device only for its overlay, and the keyboard and mouse.
@@ -312,7 +314,7 @@ impl Console {
         if let Some(prefix) = &args.screenshot {
             crate::imageio::check_image_output(&window_png(prefix), ImageKind::Ldr)?;
         }
-        let opened = Opened::new("vkgi: CAVE master", (640, 360))?;
+        let opened = Opened::new("vkgi: CAVE master", args.frame.size)?;
         let gpu = Gpu::new(&GpuOptions {
             display: Some(opened.display()?),
             ..args.gpu.options()
@@ -391,8 +393,9 @@ fn deterministic(
     Ok(settings)
 }
 
-/// Accept nodes until `args.nodes` joined: each says hello, and is refused (with the reason,
-/// in one line on both ends) if its build or scene differs or its wall is taken.
+/// Accept nodes until `args.nodes` joined. Each says hello and is refused, with the reason in
+/// one line on both ends, if its build or scene differs or its view is taken; a connection
+/// that fails on the way is dropped without ending the run.
 fn join(
     listener: &TcpListener,
     args: &CaveMasterArgs,
@@ -425,67 +428,96 @@ fn join(
                 std::thread::sleep(Duration::from_millis(5));
                 continue;
             }
-            Err(e) => return Err(e).context("accepting a node"),
-        };
-        stream.set_nonblocking(false)?;
-        let mut link = Link::new(stream)?;
-        let hello = match link.receive::<NodeMessage>(Duration::from_secs(10)) {
-            Ok(hello) => hello,
             Err(e) => {
-                println!("cave-master: a connection said no hello: {e}");
+                println!("cave-master: accepting a connection failed: {e}");
                 continue;
             }
         };
-        let NodeMessage::Hello {
+        match greet(stream, args, scene_digest, welcome, &nodes) {
+            Ok(node) => {
+                nodes.push(node);
+                println!(
+                    "cave-master: the {} joined ({} of {})",
+                    nodes.last().map_or(String::new(), Node::name),
+                    nodes.len(),
+                    args.nodes
+                );
+            }
+            Err(why) => println!("cave-master: {why}"),
+        }
+    }
+    Ok(nodes)
+}
+
+/// Hear a connection's hello and welcome it as a node, or say why not.
+fn greet(
+    stream: std::net::TcpStream,
+    args: &CaveMasterArgs,
+    scene_digest: &str,
+    welcome: &MasterMessage,
+    nodes: &[Node],
+) -> Result<Node, String> {
+    let mut link = stream
+        .set_nonblocking(false)
+        .and_then(|()| Link::new(stream))
+        .map_err(|e| format!("a connection failed: {e}"))?;
+    let (build, wall, eye, scene, scene_name) = match link.receive::<NodeMessage>(HELLO_TIMEOUT) {
+        Ok(NodeMessage::Hello {
             build,
             wall,
             eye,
             scene,
             scene_name,
-        } = hello
-        else {
-            println!("cave-master: a connection began without a hello: refused");
-            continue;
-        };
-        let refusal = if build != protocol::build() {
-            Some(format!(
-                "its build is '{build}', the master's '{}'",
-                protocol::build()
-            ))
-        } else if scene != scene_digest {
-            Some(format!(
-                "its scene '{scene_name}' (digest {scene}) is not the master's '{}' (digest {scene_digest})",
-                args.scene
-            ))
-        } else if nodes.iter().any(|n| n.wall == wall && n.eye.overlaps(eye)) {
-            Some(format!("the {wall} wall's {} view is taken", eye.name()))
-        } else {
-            None
-        };
-        if let Some(reason) = refusal {
-            println!("cave-master: refused the {wall} node: {reason}");
-            let _ = link.send(&MasterMessage::Refused { reason });
-            continue;
+        }) => (build, wall, eye, scene, scene_name),
+        Ok(other) => {
+            return Err(refuse(
+                &mut link,
+                format!("it began with {other:?}, not a hello"),
+            ));
         }
-        link.send(welcome)?;
-        nodes.push(Node { wall, eye, link });
-        println!(
-            "cave-master: the {} joined ({} of {})",
-            nodes.last().map_or(String::new(), Node::name),
-            nodes.len(),
-            args.nodes
-        );
-    }
-    Ok(nodes)
+        Err(LinkError::Malformed(e)) => {
+            let reason = format!("its hello is not one of {}: {e}", protocol::build());
+            return Err(refuse(&mut link, reason));
+        }
+        Err(e) => return Err(format!("a connection said no hello: {e}")),
+    };
+    let name = super::node_name(&wall, eye);
+    let reason = if build != protocol::build() {
+        format!(
+            "its build is '{build}', the master's '{}'",
+            protocol::build()
+        )
+    } else if scene != scene_digest {
+        format!(
+            "its scene '{scene_name}' (digest {scene}) is not the master's '{}' (digest {scene_digest})",
+            args.scene
+        )
+    } else if nodes.iter().any(|n| n.wall == wall && n.eye.overlaps(eye)) {
+        format!("the {name} view is taken")
+    } else {
+        link.send(welcome)
+            .map_err(|e| format!("the {name} left before its welcome: {e}"))?;
+        return Ok(Node { wall, eye, link });
+    };
+    Err(format!("refused the {name}: {}", refuse(&mut link, reason)))
+}
+
+/// Tell a connection it cannot join (it may already be gone); returns the reason.
+fn refuse(link: &mut Link, reason: String) -> String {
+    let _ = link.send(&MasterMessage::Refused {
+        reason: reason.clone(),
+    });
+    reason
 }
 
 fn expect_applied(
     link: &mut Link,
     frame: u64,
     version: u64,
+    wait: Duration,
     timeout: Duration,
 ) -> Result<(), String> {
-    match link.receive::<NodeMessage>(timeout) {
+    match link.receive::<NodeMessage>(wait) {
         Ok(NodeMessage::Applied {
             frame: f,
             version: v,
@@ -493,7 +525,7 @@ fn expect_applied(
         Ok(other) => Err(format!(
             "it answered {other:?} to frame {frame} (version {version})"
         )),
-        Err(e) => Err(describe(e)),
+        Err(e) => Err(describe(e, timeout)),
     }
 }
 
@@ -501,9 +533,10 @@ fn expect_finished(
     link: &mut Link,
     frame: u64,
     version: u64,
+    wait: Duration,
     timeout: Duration,
 ) -> Result<(Option<u64>, f64, f64), String> {
-    match link.receive::<NodeMessage>(timeout) {
+    match link.receive::<NodeMessage>(wait) {
         Ok(NodeMessage::Finished {
             frame: f,
             version: v,
@@ -514,13 +547,17 @@ fn expect_finished(
         Ok(other) => Err(format!(
             "it answered {other:?} while finishing frame {frame}"
         )),
-        Err(e) => Err(describe(e)),
+        Err(e) => Err(describe(e, timeout)),
     }
 }
 
-fn describe(error: LinkError) -> String {
+/// Why a node is lost, in words; `timeout` is how long it had.
+fn describe(error: LinkError, timeout: Duration) -> String {
     match error {
-        LinkError::Timeout(s) => format!("it stopped answering (nothing for {s:.1} s)"),
+        LinkError::Timeout(_) => format!(
+            "it stopped answering (nothing for {:.1} s)",
+            timeout.as_secs_f64()
+        ),
         LinkError::Closed => "its connection closed (the node died or quit)".into(),
         other => other.to_string(),
     }

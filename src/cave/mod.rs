@@ -15,12 +15,31 @@ pub mod path;
 pub mod protocol;
 pub mod stereo;
 
+use std::time::Duration;
+
 use glam::Vec3;
 
 use crate::render::Frame;
 use crate::scene::Scene;
-use crate::view::cave::Cave;
+use crate::view::cave::{Cave, EyeChoice};
 use protocol::Update;
+
+/// `value` seconds, or one line of bad input naming `--flag`.
+fn seconds(value: f64, flag: &str) -> anyhow::Result<Duration> {
+    if !(value.is_finite() && value > 0.0 && value <= 86_400.0) {
+        crate::bad_input!("--{flag} must be in (0, 86400] seconds");
+    }
+    Ok(Duration::from_secs_f64(value))
+}
+
+/// A node's name in messages: "front wall", or "front wall (left eye)".
+pub fn node_name(wall: &str, eye: EyeChoice) -> String {
+    match eye {
+        EyeChoice::Mono => format!("{wall} wall"),
+        EyeChoice::Both => format!("{wall} wall (both eyes)"),
+        eye => format!("{wall} wall ({} eye)", eye.name()),
+    }
+}
 
 /// The parameters a frame is drawn with, as far as the master sends them.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -2,8 +2,8 @@
 //! for every frame the master releases: applies the frame's parameter updates (and says so at
 //! once), renders the whole frame for its wall (shadows, RSM, injection, propagation: nothing is
 //! shared between nodes but the parameters), waits for its GPU, and reports the frame finished
-//! with a digest of its GI method's lattices. It renders headless; --screenshot saves its wall
-//! when the master stops the run.
+//! with a digest of its GI method's lattices. It shows its wall in a window (or renders
+//! headless with --headless); --screenshot saves it when the master stops the run.
 
 use std::net::{SocketAddr, TcpStream, ToSocketAddrs};
 use std::path::{Path, PathBuf};
@@ -28,40 +28,29 @@ use crate::view::cave::{Cave, EyeChoice, WallName};
 
 pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     let (wall, eye) = (args.wall, args.eye);
-    let tag = match eye {
-        EyeChoice::Mono => format!("cave-node {}", wall.name()),
-        EyeChoice::Both => format!("cave-node {} (both eyes)", wall.name()),
-        eye => format!("cave-node {} ({} eye)", wall.name(), eye.name()),
-    };
-    let seconds = |value: f64, flag: &str| -> anyhow::Result<Duration> {
-        if !(value.is_finite() && value > 0.0 && value <= 86_400.0) {
-            crate::bad_input!("--{flag} must be in (0, 86400] seconds");
-        }
-        Ok(Duration::from_secs_f64(value))
-    };
-    let connect_timeout = seconds(args.connect_timeout, "connect-timeout")?;
-    let master_timeout = seconds(args.master_timeout, "master-timeout")?;
+    let tag = format!("cave-node {}", super::node_name(wall.name(), eye));
+    let connect_timeout = super::seconds(args.connect_timeout, "connect-timeout")?;
+    let master_timeout = super::seconds(args.master_timeout, "master-timeout")?;
     let limit = crate::render::MAX_IMAGE_SIDE;
-    let (width, height) = args.frame.size;
+    let (width, height) = args.size;
     if width == 0 || height == 0 || width.max(height) > limit {
         crate::bad_input!("--size must be 1..={limit} on each side");
     }
-    let side = view_side(args.frame.size, eye, args.stereo);
+    let side = view_side(args.size, eye, args.stereo);
     let screenshot = args
         .screenshot
         .as_ref()
         .map(|prefix| Screenshot::new(prefix, wall, eye))
         .transpose()?;
     let mut scene = Scene::load(&args.scene)?;
-    scene.area_samples = args.frame.area_samples;
 
     let master = resolve(&args.master)?;
     // The window opens first: a node that cannot show its wall never joins the run.
     let opened = match args.headless {
         true => None,
-        false => Some(Opened::new(&format!("vkgi: {tag}"), args.frame.size)?),
+        false => Some(Opened::new(&format!("vkgi: {tag}"), args.size)?),
     };
-    let mut link = connect(master, &args.master, connect_timeout, &tag)?;
+    let mut link = connect(&master, &args.master, connect_timeout, &tag)?;
     link.send(&NodeMessage::Hello {
         build: protocol::build(),
         wall: wall.name().into(),
@@ -69,47 +58,28 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         scene: crate::reference::cache::scene_hash(&scene),
         scene_name: scene.name.clone(),
     })?;
-    let welcome = match link.receive(master_timeout) {
-        Ok(MasterMessage::Welcome {
-            method,
-            settings,
-            cave_size,
-            eye_separation,
-            edge_pixels,
-        }) => (method, settings, cave_size, eye_separation, edge_pixels),
-        Ok(MasterMessage::Refused { reason }) => {
-            crate::bad_input!("refused by the master: {reason}")
-        }
-        Ok(other) => anyhow::bail!("the master began with {other:?} instead of a welcome"),
-        Err(e) => anyhow::bail!("no welcome from the master at {}: {e}", args.master),
-    };
-    let (method_name, settings, cave_size, separation, edge_pixels) = welcome;
-    if !(cave_size.is_finite() && cave_size > 0.0 && cave_size <= 100.0) {
-        anyhow::bail!("the master sent a CAVE size of {cave_size}");
-    }
-    if !(separation.is_finite() && (0.0..=1.0).contains(&separation)) {
-        anyhow::bail!("the master sent an eye separation of {separation}");
-    }
-    let chosen = method::choose(&method_name, &settings)?;
+    let run = Welcome::receive(&mut link, master_timeout, &args.master)?;
+    scene.area_samples = run.area_samples;
+    let chosen = method::choose(&run.method, &run.settings)?;
 
     let gpu = Gpu::new(&GpuOptions {
         display: opened.as_ref().map(Opened::display).transpose()?,
         ..args.gpu.options()
     })
     .context("setting up the GPU")?;
-    let (mut cave, fly) = Cave::placed_with_fly(&scene, cave_size, Vec3::ZERO);
+    let (mut cave, fly) = Cave::placed_with_fly(&scene, run.cave_size, Vec3::ZERO);
     let options = FrameOptions {
         width: side,
         height: side,
-        ..args.frame.options()
+        ..run.frame.clone()
     };
     let views = |cave: &mut Cave, scene: &Scene| {
         cave.follow(&fly);
         let mut drawn = cave.all_walls()[wall.index()];
-        if edge_pixels {
+        if run.edge_pixels {
             drawn = drawn.edge_centred(side);
         }
-        eye.eyes(cave, scene, &drawn, separation)
+        eye.eyes(cave, scene, &drawn, run.eye_separation)
     };
     let first_eyes = views(&mut cave, &scene);
     let mut frame = Frame::with_eyes(&gpu, &scene, options, &first_eyes)?;
@@ -120,14 +90,19 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         .map(|o| Display::new(&gpu, o, first_eyes.len(), args.stereo, FRAMES_IN_FLIGHT))
         .transpose()?;
     link.send(&NodeMessage::Ready)?;
-    println!("{tag}: joined; rendering {side}x{side} with {method_name}");
+    println!("{tag}: joined; rendering {side}x{side} with {}", run.method);
 
     let mut version = 0u64;
     let mut frames = 0u64;
     let mut finished_at: Option<Instant> = None;
     let mut last_render_ms = 0.0;
     loop {
-        let message = next_message(&mut link, display.as_mut(), master_timeout)
+        // The master may still be waiting for slower nodes to set up before the first frame.
+        let wait = match frames {
+            0 => master_timeout + run.join_timeout,
+            _ => master_timeout,
+        };
+        let message = next_message(&mut link, display.as_mut(), wait)
             .map_err(|e| anyhow::anyhow!("lost the master after {frames} frame(s): {e}"))?;
         let (number, since, next, updates, figures) = match message {
             MasterMessage::Frame {
@@ -203,6 +178,61 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     crate::app::render::check_validation(&gpu)
 }
 
+/// What the master's welcome says every node draws with.
+struct Welcome {
+    method: String,
+    settings: Vec<(String, String)>,
+    cave_size: f32,
+    eye_separation: f32,
+    edge_pixels: bool,
+    frame: FrameOptions,
+    area_samples: u32,
+    join_timeout: Duration,
+}
+
+impl Welcome {
+    /// The master's answer to the hello: its welcome (checked), or its refusal as one line
+    /// of bad input.
+    fn receive(link: &mut Link, timeout: Duration, master: &str) -> anyhow::Result<Welcome> {
+        match link.receive(timeout) {
+            Ok(MasterMessage::Welcome {
+                method,
+                settings,
+                cave_size,
+                eye_separation,
+                edge_pixels,
+                frame,
+                area_samples,
+                join_timeout_s,
+            }) => {
+                crate::view::cave::check_size(cave_size)
+                    .map_err(|e| anyhow::anyhow!("the master sent {e}"))?;
+                if !(eye_separation.is_finite() && (0.0..=1.0).contains(&eye_separation)) {
+                    anyhow::bail!("the master sent an eye separation of {eye_separation}");
+                }
+                if !(join_timeout_s.is_finite() && (0.0..=86_400.0).contains(&join_timeout_s)) {
+                    anyhow::bail!("the master sent a join timeout of {join_timeout_s} s");
+                }
+                Ok(Welcome {
+                    method,
+                    settings,
+                    cave_size,
+                    eye_separation,
+                    edge_pixels,
+                    frame,
+                    area_samples,
+                    join_timeout: Duration::from_secs_f64(join_timeout_s),
+                })
+            }
+            Ok(MasterMessage::Refused { reason }) => {
+                crate::bad_input!("refused by the master: {reason}")
+            }
+            Ok(other) => anyhow::bail!("the master began with {other:?} instead of a welcome"),
+            Err(e) => anyhow::bail!("no welcome from the master at {master}: {e}"),
+        }
+    }
+}
+
 /// The side of the node's square views: the largest that fits its window (`size`), one view
 /// or a stereo pair laid out side by side or top-bottom (an anaglyph overlays the pair).
 fn view_side((width, height): (u32, u32), eye: EyeChoice, layout: StereoLayout) -> u32 {
@@ -253,7 +283,7 @@ fn overlay_lines(
 ) -> Vec<String> {
     vec![
         tag.to_uppercase(),
-        format!("FRAME {frame}  VERSION {version}"),
+        format!("FRAME {}  VERSION {version}", frame + 1),
         format!("SYNC {sync_ms:.3} MS  LOCK WAIT {lock_wait_ms:.3} MS"),
         format!("RENDER {render_ms:.1} MS"),
     ]
@@ -354,20 +384,21 @@ impl Screenshot {
 }
 
 /// The master's socket address.
-fn resolve(address: &str) -> anyhow::Result<SocketAddr> {
+fn resolve(address: &str) -> anyhow::Result<Vec<SocketAddr>> {
     let addresses: Vec<_> = address
         .to_socket_addrs()
         .map_err(|e| crate::error::InputError::new(format!("--master {address}: {e}")))?
         .collect();
-    match addresses.first() {
-        Some(&target) => Ok(target),
-        None => crate::bad_input!("--master {address} names no address"),
+    if addresses.is_empty() {
+        crate::bad_input!("--master {address} names no address");
     }
+    Ok(addresses)
 }
 
-/// Connect to the master, trying again until `timeout` (a node may start before its master).
+/// Connect to the master at any of `targets`, trying again until `timeout` (a node may start
+/// before its master).
 fn connect(
-    target: SocketAddr,
+    targets: &[SocketAddr],
     address: &str,
     timeout: Duration,
     tag: &str,
@@ -375,7 +406,18 @@ fn connect(
     let deadline = Instant::now() + timeout;
     let mut said_waiting = false;
     loop {
-        match TcpStream::connect_timeout(&target, Duration::from_secs(1)) {
+        // The addresses in turn, stopping at the first that answers.
+        let mut connected = Err(std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            "no address",
+        ));
+        for target in targets {
+            connected = TcpStream::connect_timeout(target, Duration::from_secs(1));
+            if connected.is_ok() {
+                break;
+            }
+        }
+        match connected {
             Ok(stream) => return Ok(Link::new(stream)?),
             Err(e) if Instant::now() >= deadline => {
                 anyhow::bail!(

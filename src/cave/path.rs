@@ -101,6 +101,17 @@ impl TrackedPath {
     pub fn moves_light(&self) -> bool {
         self.samples[0].light.is_some()
     }
+
+    /// Refuse samples that move a light `scene` does not have.
+    pub fn check_scene(&self, scene: &crate::scene::Scene) -> Result<(), InputError> {
+        if self.moves_light() && scene.lights.is_empty() {
+            return Err(InputError::new(format!(
+                "the path moves the first light, but scene '{}' has no point or spot light",
+                scene.name
+            )));
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -10,19 +10,31 @@ use bytes::{Bytes, BytesMut};
 use serde::{Deserialize, Serialize};
 use tokio_util::codec::{Decoder, Encoder, LengthDelimitedCodec};
 
+use crate::render::FrameOptions;
 use crate::view::cave::EyeChoice;
 
 /// Bumped whenever a message changes shape: a node and a master of different protocols refuse
 /// each other at the handshake.
 pub const PROTOCOL: u32 = 1;
 
-/// The build both ends must share: the same renderer draws the same pixels.
+/// The build both ends must share: the same version, protocol and shaders (a digest of every
+/// shader's SPIR-V), so that every node draws the same pixels.
 pub fn build() -> String {
-    format!("vkgi {} protocol {PROTOCOL}", env!("CARGO_PKG_VERSION"))
+    let shaders = crate::shaders::ALL
+        .iter()
+        .fold(crate::digest::FNV_OFFSET, |hash, spirv| {
+            crate::digest::fnv1a(spirv.iter().copied(), hash)
+        });
+    format!(
+        "vkgi {} protocol {PROTOCOL} shaders {shaders:016x}",
+        env!("CARGO_PKG_VERSION")
+    )
 }
 
 /// The longest message either end accepts (a frame's updates are a few hundred bytes).
 const MAX_MESSAGE: usize = 1 << 20;
+/// The longest a message may take to leave (the peer's receive buffer is full).
+const WRITE_TIMEOUT: Duration = Duration::from_secs(10);
 
 /// A node to the master.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -70,6 +82,14 @@ pub enum MasterMessage {
         /// Walls are drawn with their outer pixel centres on their edges
         /// (`Wall::edge_centred`).
         edge_pixels: bool,
+        /// What every wall is drawn with (exposure, shadow maps, indirect only, parts); each
+        /// node keeps its own size.
+        frame: FrameOptions,
+        /// Samples per emissive triangle the rasteriser's lights take.
+        area_samples: u32,
+        /// How long the master may wait for the others after this node is ready: the node
+        /// waits that much longer for its first frame.
+        join_timeout_s: f64,
     },
     /// The node cannot join (another build or scene, a wall already taken), in one line.
     Refused { reason: String },
@@ -89,13 +109,27 @@ pub enum MasterMessage {
     Stop { reason: String },
 }
 
-/// One parameter change.
+/// One parameter change. Vectors travel as the bits of their floats, so every node gets
+/// exactly the value the master computed (a decimal round trip could differ in the last bit).
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
 pub enum Update {
     /// The tracked head, relative to the CAVE's centre in half-sizes (right, up, back).
-    Head([f32; 3]),
+    Head(#[serde(with = "vector_bits")] [f32; 3]),
     /// The scene's first light moves to this world position.
-    Light([f32; 3]),
+    Light(#[serde(with = "vector_bits")] [f32; 3]),
+}
+
+/// An `[f32; 3]` as the `u32` bits of its components.
+mod vector_bits {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &[f32; 3], s: S) -> Result<S::Ok, S::Error> {
+        v.map(f32::to_bits).serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; 3], D::Error> {
+        Ok(<[u32; 3]>::deserialize(d)?.map(f32::from_bits))
+    }
 }
 
 /// Why a message did not arrive.
@@ -121,6 +155,8 @@ pub struct Link {
 impl Link {
     pub fn new(stream: TcpStream) -> std::io::Result<Link> {
         stream.set_nodelay(true)?;
+        // A peer that stops reading must not block a sender forever.
+        stream.set_write_timeout(Some(WRITE_TIMEOUT))?;
         Ok(Link {
             stream,
             codec: LengthDelimitedCodec::builder()
@@ -136,8 +172,14 @@ impl Link {
         self.codec
             .encode(Bytes::from(body), &mut framed)
             .map_err(|e| LinkError::Malformed(e.to_string()))?;
-        self.stream.write_all(&framed)?;
-        Ok(())
+        match self.stream.write_all(&framed) {
+            Ok(()) => Ok(()),
+            Err(e) if is_disconnect(e.kind()) => Err(LinkError::Closed),
+            Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {
+                Err(LinkError::Timeout(WRITE_TIMEOUT.as_secs_f64()))
+            }
+            Err(e) => Err(e.into()),
+        }
     }
 
     /// The next message, waiting at most `timeout`.
@@ -202,7 +244,7 @@ mod tests {
                 version: f + 1,
                 updates: vec![
                     Update::Head([f as f32, 0.5, -0.25]),
-                    Update::Light([1.0; 3]),
+                    Update::Light([0.1 + f32::EPSILON, f32::MIN_POSITIVE, -1e30]),
                 ],
                 sync_ms: 0.25,
                 lock_wait_ms: 1.5,

@@ -20,7 +20,7 @@ use crate::gpu::{
 use crate::scene::gpu::{GpuVertex, SceneBuffers};
 use crate::scene::{Light, Scene};
 
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FrameOptions {
     pub width: u32,
     pub height: u32,
@@ -47,7 +47,9 @@ impl Default for FrameOptions {
 }
 
 /// How a frame submits a GI method's independent parts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize, serde::Deserialize,
+)]
 pub enum SubmitPlan {
     /// Async when the device has at least two compute queues to run parts on at once, else
     /// sequential.

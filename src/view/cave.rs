@@ -34,6 +34,17 @@ impl Wall {
     }
 }
 
+/// Refuse a CAVE wall size (a fraction of the scene's diagonal) outside (0, 100].
+pub fn check_size(size: f32) -> Result<(), crate::error::InputError> {
+    if size.is_finite() && size > 0.0 && size <= 100.0 {
+        Ok(())
+    } else {
+        Err(crate::error::InputError::new(format!(
+            "--cave-size {size} must be in (0, 100]"
+        )))
+    }
+}
+
 /// A wall's name, as `vkgi cave-node --wall` takes it.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WallName {
@@ -59,7 +70,8 @@ impl WallName {
 /// Tiles across and down in the window of a tiled CAVE.
 pub const TILES: (u32, u32) = (3, 2);
 
-/// A cube of walls: front, left, right and floor.
+/// A cube of six walls around the tracked head (the single-process view shows front, left,
+/// right and floor).
 #[derive(Clone, Copy, Debug)]
 pub struct Cave {
     pub center: Vec3,
@@ -131,37 +143,37 @@ impl Cave {
         let u = Vec3::Y;
         [
             Wall {
-                name: "front",
+                name: WallName::Front.name(),
                 corner: c + (f - r - u) * h,
                 right: r * 2.0 * h,
                 up: u * 2.0 * h,
             },
             Wall {
-                name: "left",
+                name: WallName::Left.name(),
                 corner: c + (-r - f - u) * h,
                 right: f * 2.0 * h,
                 up: u * 2.0 * h,
             },
             Wall {
-                name: "right",
+                name: WallName::Right.name(),
                 corner: c + (r + f - u) * h,
                 right: -f * 2.0 * h,
                 up: u * 2.0 * h,
             },
             Wall {
-                name: "floor",
+                name: WallName::Floor.name(),
                 corner: c + (-u - r - f) * h,
                 right: r * 2.0 * h,
                 up: f * 2.0 * h,
             },
             Wall {
-                name: "back",
+                name: WallName::Back.name(),
                 corner: c + (r - f - u) * h,
                 right: -r * 2.0 * h,
                 up: u * 2.0 * h,
             },
             Wall {
-                name: "ceiling",
+                name: WallName::Ceiling.name(),
                 corner: c + (u - r + f) * h,
                 right: r * 2.0 * h,
                 up: -f * 2.0 * h,
@@ -246,12 +258,14 @@ impl EyeChoice {
 
     /// The eyes of `wall` this choice draws, in view order.
     pub fn eyes(self, cave: &Cave, scene: &Scene, wall: &Wall, separation: f32) -> Vec<Eye> {
+        if self == EyeChoice::Mono {
+            return vec![cave.eye(scene, wall)];
+        }
         let [left, right] = cave.stereo_eyes(scene, wall, separation);
         match self {
-            EyeChoice::Mono => vec![cave.eye(scene, wall)],
             EyeChoice::Left => vec![left],
             EyeChoice::Right => vec![right],
-            EyeChoice::Both => vec![left, right],
+            _ => vec![left, right],
         }
     }
 }

@@ -116,7 +116,7 @@ const INJECTION: Setting = Setting::new(
     "injection",
     Kind::Choice(&["float", "fixed"]),
     "float",
-    "How VPLs add into their cells: float atomics (fast; a cell's sum depends on the threads' order) or 64-bit fixed-point integer atomics (bit-identical on every run and every node of a CAVE)",
+    "How VPLs add into their cells: float atomics (fast; a cell's sum depends on the threads' order) or 64-bit fixed-point integer atomics (the same bits on every run on one device and driver, so a CAVE's nodes agree)",
 );
 const LOOKUP_OFFSET: Setting = Setting::new(
     "lookup-offset",

@@ -320,7 +320,7 @@ crate::push_constants! {
 
 crate::push_constants! {
     struct ResolvePush {
-        coefficients: u32,
+        cells: u32,
         inverse_scale: f32,
     }
 }
@@ -495,13 +495,19 @@ impl Lpv {
         let (gpu, scene) = (setup.gpu, setup.scene);
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
         let cells = lattice.cell_count();
-        // The geometry lattice is the largest buffer: 16 bytes per word, up to 4 words per cell.
+        // The largest buffer: the geometry lattice (16 bytes per word, up to 4 words per cell)
+        // or the fixed-point injection's sums (4 coefficients of 8 bytes per cell).
         let words = settings.blocking_lobe.words_per_cell();
-        let max_cells = gpu.info.max_storage_buffer_range as usize / (16 * words);
+        let fixed_bytes = if settings.injection == Injection::Fixed { 32 } else { 0 };
+        let bytes_per_cell = (16 * words).max(fixed_bytes);
+        let max_cells = gpu.info.max_storage_buffer_range as usize / bytes_per_cell;
         if cells > max_cells {
             return Err(InputError::new(format!(
-                "a {}x{}x{} lattice ({cells} cells) exceeds the device's {max_cells}-cell buffer limit (with {words} geometry word(s) per cell)",
-                lattice.dims.x, lattice.dims.y, lattice.dims.z
+                "a {}x{}x{} lattice ({cells} cells) exceeds the device's {max_cells}-cell buffer limit (its largest buffer holds {bytes_per_cell} bytes per cell: {words} geometry word(s) of 16{})",
+                lattice.dims.x,
+                lattice.dims.y,
+                lattice.dims.z,
+                if fixed_bytes > 0 { ", or the fixed-point sums' 32" } else { "" }
             ))
             .into());
         }
@@ -767,8 +773,12 @@ impl Lpv {
             None => lattices,
             Some(fixed) => [0, 1, 2].map(|c| &fixed.sums[c]),
         };
+        let clear = match self.fixed {
+            None => "clear lattice",
+            Some(_) => "clear injection sums",
+        };
         for sums in [r, g, b] {
-            rec.fill_buffer("clear lattice", sums, 0);
+            rec.fill_buffer(clear, sums, 0);
         }
         let scale = fixed_point_scale(self.energy);
         let mut dims = self.dims();
@@ -800,7 +810,7 @@ impl Lpv {
         let Some(fixed) = &self.fixed else {
             return Ok(());
         };
-        let coefficients = 4 * self.lattice.cell_count() as u32;
+        let cells = self.lattice.cell_count() as u32;
         rec.compute(&ComputePass {
             name: "inject resolve",
             pipeline: &fixed.resolve,
@@ -813,10 +823,10 @@ impl Lpv {
                 Binding::write(ids::RESOLVE_LATTICE_B, lattices[2]),
             ],
             push: &ResolvePush {
-                coefficients,
+                cells,
                 inverse_scale: 1.0 / scale,
             },
-            threads: [coefficients, 1, 1],
+            threads: [cells, 1, 1],
         })
     }
 
@@ -1040,11 +1050,16 @@ impl Lpv {
         Ok([read(r)?, read(g)?, read(b)?])
     }
 
-    /// A digest of the lattices carried to the next frame and of those the lookup reads.
+    /// A digest of the lattices carried to the next frame and of those the lookup reads (each
+    /// read once: ILPV's final lookup reads the carried ones).
     pub fn digest(&self, gpu: &Gpu, hash: u64) -> GpuResult<u64> {
         let carried = [0, 1, 2].map(|c| &self.lattices[c][self.result]);
+        let looked_up = match self.reads_final() {
+            true => [].as_slice(),
+            false => self.accumulation.as_slice(),
+        };
         let mut hash = hash;
-        for buffer in carried.into_iter().chain(self.result_lattices()) {
+        for buffer in carried.into_iter().chain(looked_up) {
             hash = crate::digest::fnv1a(gpu.read_buffer(buffer)?, hash);
         }
         Ok(hash)
