@@ -30,6 +30,31 @@ pub fn write_profile(args: &ProfileArgs, profiler: &Profiler) -> anyhow::Result<
     Ok(())
 }
 
+/// Write view `index` of `frame` as a tone-mapped PNG and a linear EXR.
+pub fn write_view(
+    gpu: &crate::gpu::Gpu,
+    frame: &crate::render::Frame,
+    index: usize,
+    png: &Path,
+    exr: &Path,
+) -> anyhow::Result<()> {
+    let view = &frame.views[index];
+    let size = (view.width(), view.height());
+    write_images(
+        Some(png),
+        Some(exr),
+        || Ok(frame.read_view_ldr(gpu, index)?),
+        || {
+            Ok(HdrImage::new(
+                size.0,
+                size.1,
+                frame.read_view_hdr(gpu, index)?,
+            ))
+        },
+        size,
+    )
+}
+
 /// Write the tone-mapped PNG and/or the linear EXR.
 pub fn write_images(
     png: Option<&Path>,

@@ -860,21 +860,11 @@ impl Running {
         )?;
         if let Some(cave) = &self.cave {
             for (index, wall) in cave.walls().iter().enumerate() {
-                let view = &self.frame.views[index];
-                let size = (view.width(), view.height());
-                output::write_images(
-                    Some(&with(&format!("-{}.png", wall.name))),
-                    Some(&with(&format!("-{}.exr", wall.name))),
-                    || Ok(self.frame.read_view_ldr(&self.gpu, index)?),
-                    || {
-                        Ok(HdrImage::new(
-                            size.0,
-                            size.1,
-                            self.frame.read_view_hdr(&self.gpu, index)?,
-                        ))
-                    },
-                    size,
-                )?;
+                let (png, exr) = (
+                    with(&format!("-{}.png", wall.name)),
+                    with(&format!("-{}.exr", wall.name)),
+                );
+                output::write_view(&self.gpu, &self.frame, index, &png, &exr)?;
             }
         }
         let composed = &self.outputs[0].composed;

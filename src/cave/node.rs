@@ -20,7 +20,7 @@ use crate::app::{method, output};
 use crate::gi::GiMethod;
 use crate::gpu::frames::FrameRing;
 use crate::gpu::{Gpu, GpuOptions};
-use crate::imageio::{self, HdrImage, ImageKind};
+use crate::imageio::{self, ImageKind};
 use crate::render::runner::{self, FRAMES_IN_FLIGHT};
 use crate::render::{Frame, FrameOptions};
 use crate::scene::Scene;
@@ -343,19 +343,7 @@ impl Screenshot {
     ) -> anyhow::Result<()> {
         let (width, height) = (frame.options.width, frame.options.height);
         for (index, (png, exr)) in self.views.iter().enumerate() {
-            output::write_images(
-                Some(png),
-                Some(exr),
-                || Ok(frame.read_view_ldr(gpu, index)?),
-                || {
-                    Ok(HdrImage::new(
-                        width,
-                        height,
-                        frame.read_view_hdr(gpu, index)?,
-                    ))
-                },
-                (width, height),
-            )?;
+            output::write_view(gpu, frame, index, png, exr)?;
         }
         if let Some(path) = &self.stereo {
             let (left, right) = (frame.read_view_ldr(gpu, 0)?, frame.read_view_ldr(gpu, 1)?);

@@ -230,13 +230,24 @@ impl Drop for DeviceShared {
     }
 }
 
+/// The command pool of one-shot work (uploads, readbacks, tests' passes) and the one command
+/// buffer it records into, reset and reused by every call. It is never freed while the device
+/// lives: the Khronos validation layers before 1.3.243 (Debian 12 ships 1.3.239) erase a freed
+/// command buffer's debug labels without their lock, racing their queue thread, which
+/// corrupted the heap about once in six runs of tests/radiosity.rs (upstream issue
+/// KhronosGroup/Vulkan-ValidationLayers#5172).
+pub(crate) struct OneShot {
+    pub(crate) pool: vk::CommandPool,
+    pub(crate) buffer: Option<vk::CommandBuffer>,
+}
+
 /// The GPU: device, queue plan and a command pool for one-shot work (uploads and readbacks).
 pub struct Gpu {
     pub(crate) shared: Arc<DeviceShared>,
     pub queues: QueuePlan,
     pub info: DeviceInfo,
     validation: Option<Arc<ValidationLog>>,
-    pub(crate) one_shot_pool: Mutex<vk::CommandPool>,
+    pub(crate) one_shot: Mutex<OneShot>,
 }
 
 impl Gpu {
@@ -304,7 +315,7 @@ impl Gpu {
 
 impl Drop for Gpu {
     fn drop(&mut self) {
-        if let Ok(pool) = self.one_shot_pool.get_mut() {
+        if let Ok(OneShot { pool, .. }) = self.one_shot.get_mut() {
             // SAFETY: one-shot submissions wait on their fence before returning, so none of the
             // pool's command buffers is pending.
             unsafe {
@@ -542,7 +553,7 @@ fn finish_device(
         queues,
         info,
         validation,
-        one_shot_pool: Mutex::new(pool),
+        one_shot: Mutex::new(OneShot { pool, buffer: None }),
     })
 }
 

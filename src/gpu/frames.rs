@@ -397,26 +397,38 @@ impl Gpu {
         F: FnOnce(&mut Recorder) -> GpuResult<()>,
     {
         let device = &self.shared.device;
-        let pool = self
-            .one_shot_pool
+        let mut one_shot = self
+            .one_shot
             .lock()
             .map_err(|_| GpuError::Setup("one-shot command pool lock poisoned".into()))?;
-        let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(*pool)
-            .level(vk::CommandBufferLevel::PRIMARY)
-            .command_buffer_count(1);
-        // SAFETY: the pool is externally synchronised by the mutex held above.
-        let cmd = unsafe { device.allocate_command_buffers(&alloc) }
-            .map_err(vk_err("allocating a one-shot command buffer"))?[0];
+        // SAFETY: the pool is externally synchronised by the mutex held above, and its command
+        // buffer is not pending: every call waited for its submission (or never submitted it).
+        unsafe { device.reset_command_pool(one_shot.pool, vk::CommandPoolResetFlags::empty()) }
+            .map_err(vk_err("resetting the one-shot command pool"))?;
+        // One command buffer, reset with its pool and reused, never freed (see `OneShot`).
+        let cmd = match one_shot.buffer {
+            Some(cmd) => cmd,
+            None => {
+                let alloc = vk::CommandBufferAllocateInfo::default()
+                    .command_pool(one_shot.pool)
+                    .level(vk::CommandBufferLevel::PRIMARY)
+                    .command_buffer_count(1);
+                // SAFETY: the pool is externally synchronised by the mutex held above.
+                let cmd = unsafe { device.allocate_command_buffers(&alloc) }
+                    .map_err(vk_err("allocating a one-shot command buffer"))?[0];
+                one_shot.buffer = Some(cmd);
+                cmd
+            }
+        };
         // SAFETY: valid create info.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) };
-        let result = fence
+        fence
             .map_err(vk_err("creating a one-shot fence"))
             .and_then(|fence| {
                 let run = || -> GpuResult<()> {
                     let begin = vk::CommandBufferBeginInfo::default()
                         .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
-                    // SAFETY: a freshly allocated command buffer.
+                    // SAFETY: the command buffer is in the initial state (its pool was just reset).
                     unsafe { device.begin_command_buffer(cmd, &begin) }
                         .map_err(vk_err("beginning a one-shot command buffer"))?;
                     let mut recorder = Recorder::new(self, cmd, self.queues.graphics.family, None);
@@ -434,9 +446,6 @@ impl Gpu {
                 // SAFETY: the submission (if any) completed: we waited on its fence, or it failed.
                 unsafe { device.destroy_fence(fence, None) };
                 result
-            });
-        // SAFETY: the command buffer is not pending (completed or never submitted).
-        unsafe { device.free_command_buffers(*pool, &[cmd]) };
-        result
+            })
     }
 }
