@@ -13,7 +13,7 @@ use serde::Serialize;
 use super::display::{Display, Opened};
 use super::input::Input;
 use super::path::TrackedPath;
-use super::protocol::{self, Link, LinkError, MasterMessage, NodeMessage};
+use super::protocol::{self, Link, LinkError, MasterMessage, NodeMessage, RunSettings};
 use super::stereo::StereoLayout;
 use super::{Pose, updates};
 use crate::app::cli::{CaveMasterArgs, OnLoss};
@@ -103,7 +103,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         listener.local_addr()?,
         args.nodes
     );
-    let welcome = MasterMessage::Welcome {
+    let welcome = MasterMessage::Welcome(RunSettings {
         method: args.gi.method.clone(),
         settings: settings.clone(),
         cave_size: args.cave_size,
@@ -112,7 +112,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         frame: args.frame.options(),
         area_samples: args.frame.area_samples,
         join_timeout_s: join_timeout.as_secs_f64(),
-    };
+    });
     let joined = Instant::now();
     let mut nodes = join(&listener, args, &scene_digest, &welcome, join_timeout)?;
     let mut lost_at_setup = Vec::new();

@@ -13,7 +13,7 @@ use anyhow::Context;
 use glam::Vec3;
 
 use super::display::{Display, Opened};
-use super::protocol::{self, Link, LinkError, MasterMessage, NodeMessage};
+use super::protocol::{self, Link, LinkError, MasterMessage, NodeMessage, RunSettings};
 use super::stereo::{self, StereoLayout};
 use crate::app::cli::CaveNodeArgs;
 use crate::app::{method, output};
@@ -58,7 +58,7 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
         scene: crate::reference::cache::scene_hash(&scene),
         scene_name: scene.name.clone(),
     })?;
-    let run = Welcome::receive(&mut link, master_timeout, &args.master)?;
+    let run = welcome(&mut link, master_timeout, &args.master)?;
     scene.area_samples = run.area_samples;
     let chosen = method::choose(&run.method, &run.settings)?;
 
@@ -99,7 +99,7 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     loop {
         // The master may still be waiting for slower nodes to set up before the first frame.
         let wait = match frames {
-            0 => master_timeout + run.join_timeout,
+            0 => master_timeout + run.join_timeout(),
             _ => master_timeout,
         };
         let message = next_message(&mut link, display.as_mut(), wait)
@@ -178,58 +178,19 @@ pub fn run(args: &CaveNodeArgs) -> anyhow::Result<()> {
     crate::app::render::check_validation(&gpu)
 }
 
-/// What the master's welcome says every node draws with.
-struct Welcome {
-    method: String,
-    settings: Vec<(String, String)>,
-    cave_size: f32,
-    eye_separation: f32,
-    edge_pixels: bool,
-    frame: FrameOptions,
-    area_samples: u32,
-    join_timeout: Duration,
-}
-
-impl Welcome {
-    /// The master's answer to the hello: its welcome (checked), or its refusal as one line
-    /// of bad input.
-    fn receive(link: &mut Link, timeout: Duration, master: &str) -> anyhow::Result<Welcome> {
-        match link.receive(timeout) {
-            Ok(MasterMessage::Welcome {
-                method,
-                settings,
-                cave_size,
-                eye_separation,
-                edge_pixels,
-                frame,
-                area_samples,
-                join_timeout_s,
-            }) => {
-                crate::view::cave::check_size(cave_size)
-                    .map_err(|e| anyhow::anyhow!("the master sent {e}"))?;
-                if !(eye_separation.is_finite() && (0.0..=1.0).contains(&eye_separation)) {
-                    anyhow::bail!("the master sent an eye separation of {eye_separation}");
-                }
-                if !(join_timeout_s.is_finite() && (0.0..=86_400.0).contains(&join_timeout_s)) {
-                    anyhow::bail!("the master sent a join timeout of {join_timeout_s} s");
-                }
-                Ok(Welcome {
-                    method,
-                    settings,
-                    cave_size,
-                    eye_separation,
-                    edge_pixels,
-                    frame,
-                    area_samples,
-                    join_timeout: Duration::from_secs_f64(join_timeout_s),
-                })
-            }
-            Ok(MasterMessage::Refused { reason }) => {
-                crate::bad_input!("refused by the master: {reason}")
-            }
-            Ok(other) => anyhow::bail!("the master began with {other:?} instead of a welcome"),
-            Err(e) => anyhow::bail!("no welcome from the master at {master}: {e}"),
+/// The master's answer to the hello: its welcome (checked), or its refusal as one line of bad
+/// input.
+fn welcome(link: &mut Link, timeout: Duration, master: &str) -> anyhow::Result<RunSettings> {
+    match link.receive(timeout) {
+        Ok(MasterMessage::Welcome(run)) => {
+            run.check()?;
+            Ok(run)
         }
+        Ok(MasterMessage::Refused { reason }) => {
+            crate::bad_input!("refused by the master: {reason}")
+        }
+        Ok(other) => anyhow::bail!("the master began with {other:?} instead of a welcome"),
+        Err(e) => anyhow::bail!("no welcome from the master at {master}: {e}"),
     }
 }
 

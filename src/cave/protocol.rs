@@ -72,25 +72,7 @@ pub enum NodeMessage {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub enum MasterMessage {
     /// The node was accepted: the method and its settings every node renders with.
-    Welcome {
-        method: String,
-        settings: Vec<(String, String)>,
-        /// The CAVE's wall size as a fraction of the scene's diagonal.
-        cave_size: f32,
-        /// The distance between the eyes, as a fraction of the wall size.
-        eye_separation: f32,
-        /// Walls are drawn with their outer pixel centres on their edges
-        /// (`Wall::edge_centred`).
-        edge_pixels: bool,
-        /// What every wall is drawn with (exposure, shadow maps, indirect only, parts); each
-        /// node keeps its own size.
-        frame: FrameOptions,
-        /// Samples per emissive triangle the rasteriser's lights take.
-        area_samples: u32,
-        /// How long the master may wait for the others after this node is ready: the node
-        /// waits that much longer for its first frame.
-        join_timeout_s: f64,
-    },
+    Welcome(RunSettings),
     /// The node cannot join (another build or scene, a wall already taken), in one line.
     Refused { reason: String },
     /// Render frame `frame` with the parameters of `version`: `updates` take the node from
@@ -107,6 +89,48 @@ pub enum MasterMessage {
     },
     /// The run is over (all frames done, or the master stops): save and exit.
     Stop { reason: String },
+}
+
+/// What every node of a run draws with, sent in the welcome.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct RunSettings {
+    pub method: String,
+    pub settings: Vec<(String, String)>,
+    /// The CAVE's wall size as a fraction of the scene's diagonal.
+    pub cave_size: f32,
+    /// The distance between the eyes, as a fraction of the wall size.
+    pub eye_separation: f32,
+    /// Walls are drawn with their outer pixel centres on their edges (`Wall::edge_centred`).
+    pub edge_pixels: bool,
+    /// What every wall is drawn with (exposure, shadow maps, indirect only, parts); each node
+    /// keeps its own size.
+    pub frame: FrameOptions,
+    /// Samples per emissive triangle the rasteriser's lights take.
+    pub area_samples: u32,
+    /// How long the master may wait for the others after this node is ready: the node waits
+    /// that much longer for its first frame.
+    pub join_timeout_s: f64,
+}
+
+impl RunSettings {
+    /// Refuse values no master of this build sends (the node then stops with one line).
+    pub fn check(&self) -> anyhow::Result<()> {
+        crate::view::cave::check_size(self.cave_size)
+            .map_err(|e| anyhow::anyhow!("the master sent {e}"))?;
+        let separation = self.eye_separation;
+        if !(separation.is_finite() && (0.0..=1.0).contains(&separation)) {
+            anyhow::bail!("the master sent an eye separation of {separation}");
+        }
+        let join = self.join_timeout_s;
+        if !(join.is_finite() && (0.0..=86_400.0).contains(&join)) {
+            anyhow::bail!("the master sent a join timeout of {join} s");
+        }
+        Ok(())
+    }
+
+    pub fn join_timeout(&self) -> Duration {
+        Duration::from_secs_f64(self.join_timeout_s)
+    }
 }
 
 /// One parameter change. Vectors travel as the bits of their floats, so every node gets
