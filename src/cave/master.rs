@@ -69,7 +69,8 @@ struct Report {
     differing_frames: Vec<u64>,
 }
 
-pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
+/// Check the flags before any work; the join and node timeouts.
+fn check_args(args: &CaveMasterArgs) -> anyhow::Result<(Duration, Duration)> {
     let join_timeout = super::seconds(args.join_timeout, "join-timeout")?;
     let node_timeout = super::seconds(args.node_timeout, "node-timeout")?;
     if args.frames == 0 {
@@ -85,6 +86,11 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
     if let Some(report) = &args.report {
         crate::imageio::check_destination(report)?;
     }
+    Ok((join_timeout, node_timeout))
+}
+
+pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
+    let (join_timeout, node_timeout) = check_args(args)?;
     let scene = Scene::load(&args.scene)?;
     let path = args.path.as_deref().map(TrackedPath::load).transpose()?;
     if let Some(path) = &path {
@@ -115,23 +121,7 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
     });
     let joined = Instant::now();
     let mut nodes = join(&listener, args, &scene_digest, &welcome, join_timeout)?;
-    let mut lost_at_setup = Vec::new();
-    for node in &mut nodes {
-        // Setting up a device and a method takes seconds: the join timeout covers it.
-        let left = join_timeout
-            .saturating_sub(joined.elapsed())
-            .max(node_timeout);
-        match node.link.receive::<NodeMessage>(left) {
-            Ok(NodeMessage::Ready) => {}
-            Ok(other) => lost_at_setup.push((node.name(), format!("it answered {other:?}"))),
-            Err(e) => lost_at_setup.push((node.name(), describe(e, left))),
-        }
-    }
-    if let Some((wall, why)) = lost_at_setup.first() {
-        stop(&mut nodes, "a node failed to set up", node_timeout);
-        anyhow::bail!("the {wall} did not get ready: {why}");
-    }
-    println!("cave-master: {} node(s) ready", nodes.len());
+    wait_until_ready(&mut nodes, joined + join_timeout, node_timeout)?;
     let mut report = Report {
         scene: scene.name.clone(),
         method: args.gi.method.clone(),
@@ -149,21 +139,13 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
     let mut version = 0u64;
     let mut stopped = None;
     for frame in 0..args.frames {
-        let mut held: Vec<KeyCode> = args.keys.get(frame as usize).copied().into_iter().collect();
-        let mut dragged = (0.0, 0.0);
-        if let Some(console) = &mut console {
-            if !console.display.pump() {
-                stopped = Some("the master's window was closed");
+        let pose = match read_input(args, console.as_mut(), &mut input, frame) {
+            Ok(pose) => pose,
+            Err(why) => {
+                stopped = Some(why);
                 break;
             }
-            held.extend_from_slice(console.display.held_keys());
-            dragged = console.display.take_drag();
-        }
-        if held.contains(&KeyCode::Escape) {
-            stopped = Some("stopped from the master's keyboard");
-            break;
-        }
-        let pose = input.pose(frame, &held, dragged);
+        };
         let changes = updates(sent.as_ref(), &pose);
         let since = version;
         if !changes.is_empty() {
@@ -234,6 +216,53 @@ pub fn run(args: &CaveMasterArgs) -> anyhow::Result<()> {
         crate::app::render::check_validation(&console.gpu)?;
     }
     Ok(())
+}
+
+/// Wait until every node has set up its device and method (seconds: the join timeout covers
+/// it, but each node gets at least `node_timeout`). A node that fails stops the run.
+fn wait_until_ready(
+    nodes: &mut Vec<Node>,
+    deadline: Instant,
+    node_timeout: Duration,
+) -> anyhow::Result<()> {
+    for i in 0..nodes.len() {
+        let wait = deadline
+            .saturating_duration_since(Instant::now())
+            .max(node_timeout);
+        let failure = match nodes[i].link.receive::<NodeMessage>(wait) {
+            Ok(NodeMessage::Ready) => continue,
+            Ok(other) => format!("it answered {other:?}"),
+            Err(e) => describe(e, wait),
+        };
+        let name = nodes[i].name();
+        stop(nodes, "a node failed to set up", node_timeout);
+        anyhow::bail!("the {name} did not get ready: {failure}");
+    }
+    println!("cave-master: {} node(s) ready", nodes.len());
+    Ok(())
+}
+
+/// This frame's pose from the input: the path or head, the scripted key, and the window's keys
+/// and mouse. Err(why) when the input ends the run (the window closed, esc).
+fn read_input(
+    args: &CaveMasterArgs,
+    console: Option<&mut Console>,
+    input: &mut Input,
+    frame: u64,
+) -> Result<Pose, &'static str> {
+    let mut held: Vec<KeyCode> = args.keys.get(frame as usize).copied().into_iter().collect();
+    let mut dragged = (0.0, 0.0);
+    if let Some(console) = console {
+        if !console.display.pump() {
+            return Err("the master's window was closed");
+        }
+        held.extend_from_slice(console.display.held_keys());
+        dragged = console.display.take_drag();
+    }
+    if held.contains(&KeyCode::Escape) {
+        return Err("stopped from the master's keyboard");
+    }
+    Ok(input.pose(frame, &held, dragged))
 }
 
 /// Send one frame to every node, then wait (at most `timeout` for all of them together, per
