@@ -31,6 +31,7 @@ use crate::render::{Epilogue, Eye, Frame};
 use crate::scene::Scene;
 use crate::scene::movable::Movable;
 use crate::view::cave::Cave;
+use crate::view::drag::Drag;
 use crate::view::fly::FlyCamera;
 use crate::view::output::{Output, cave_tiles};
 use crate::view::overlay::Overlay;
@@ -190,16 +191,14 @@ impl ApplicationHandler for ViewApp {
                 button: MouseButton::Left,
                 ..
             } => {
-                running.dragging = state == ElementState::Pressed;
-                running.cursor = None;
+                running.drag.button(state == ElementState::Pressed);
                 Ok(Flow::Continue)
             }
             WindowEvent::CursorMoved { position, .. } => {
                 let now = (position.x as f32, position.y as f32);
-                if let (true, Some(last)) = (running.dragging, running.cursor) {
-                    running.fly.turn(now.0 - last.0, now.1 - last.1);
+                if let Some((dx, dy)) = running.drag.moved_to(now) {
+                    running.fly.turn(dx, dy);
                 }
-                running.cursor = Some(now);
                 Ok(Flow::Continue)
             }
             WindowEvent::MouseWheel { delta, .. } => {
@@ -265,8 +264,7 @@ struct Running {
     /// An emitter moved since the GI method was made: it is made again once the keys let go
     /// (its set-up reads the geometry).
     geometry_moved: bool,
-    dragging: bool,
-    cursor: Option<(f32, f32)>,
+    drag: Drag,
     resize_pending: bool,
     help: bool,
     direct_only: bool,
@@ -349,8 +347,7 @@ impl Running {
             movables,
             moving: 0,
             geometry_moved: false,
-            dragging: false,
-            cursor: None,
+            drag: Drag::default(),
             resize_pending: false,
             help: false,
             direct_only: false,

@@ -25,6 +25,7 @@ use crate::gpu::{Binding, ComputePass, ComputePipeline, Gpu, Specialization};
 use crate::render::{Epilogue, Frame};
 use crate::shader_shared as ids;
 use crate::shaders;
+use crate::view::drag::Drag;
 use crate::view::output::{Output, Tile};
 use crate::view::overlay::Overlay;
 
@@ -47,8 +48,7 @@ struct Events {
     held: Vec<KeyCode>,
     /// Pointer travel while the left button was down since the last look, in pixels.
     dragged: (f32, f32),
-    dragging: bool,
-    cursor: Option<(f32, f32)>,
+    drag: Drag,
 }
 
 impl ApplicationHandler for Events {
@@ -78,16 +78,14 @@ impl ApplicationHandler for Events {
                 button: MouseButton::Left,
                 ..
             } => {
-                self.dragging = state == ElementState::Pressed;
-                self.cursor = None;
+                self.drag.button(state == ElementState::Pressed);
             }
             WindowEvent::CursorMoved { position, .. } => {
                 let now = (position.x as f32, position.y as f32);
-                if let (true, Some(last)) = (self.dragging, self.cursor) {
-                    self.dragged.0 += now.0 - last.0;
-                    self.dragged.1 += now.1 - last.1;
+                if let Some((dx, dy)) = self.drag.moved_to(now) {
+                    self.dragged.0 += dx;
+                    self.dragged.1 += dy;
                 }
-                self.cursor = Some(now);
             }
             _ => {}
         }
@@ -117,8 +115,7 @@ impl Opened {
             resized: false,
             held: Vec::new(),
             dragged: (0.0, 0.0),
-            dragging: false,
-            cursor: None,
+            drag: Drag::default(),
         };
         for _ in 0..200 {
             event_loop.pump_app_events(Some(Duration::from_millis(10)), &mut events);

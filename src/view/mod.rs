@@ -3,6 +3,7 @@
 //! (src/app/view.rs) drives them from winit's event loop.
 
 pub mod cave;
+pub mod drag;
 pub mod fly;
 pub mod output;
 pub mod overlay;
