@@ -138,6 +138,28 @@ impl<'a> ImageDesc<'a> {
             usage,
         }
     }
+
+    /// A 3-D image of `extent` texels.
+    pub fn new_3d(
+        name: &'a str,
+        format: vk::Format,
+        extent: [u32; 3],
+        usage: vk::ImageUsageFlags,
+    ) -> Self {
+        ImageDesc {
+            name,
+            format,
+            extent: vk::Extent3D {
+                width: extent[0],
+                height: extent[1],
+                depth: extent[2],
+            },
+            kind: vk::ImageType::TYPE_3D,
+            layers: 1,
+            array: false,
+            usage,
+        }
+    }
 }
 
 pub struct Image {

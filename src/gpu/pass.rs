@@ -1058,6 +1058,41 @@ impl<'a> Recorder<'a> {
         self.end_scope(scope);
     }
 
+    /// Copy a buffer, tightly packed layer after layer (rows of texels, then slices), into
+    /// every layer of an image.
+    pub fn copy_buffer_to_image(&mut self, name: &'static str, buffer: &Buffer, image: &Image) {
+        let scope = self.begin_scope(name);
+        self.sync(&[
+            (Resource::Buffer(buffer), Access::TransferRead),
+            (Resource::Image(image), Access::TransferWrite),
+        ]);
+        let region = vk::BufferImageCopy {
+            buffer_offset: 0,
+            buffer_row_length: 0,
+            buffer_image_height: 0,
+            image_subresource: vk::ImageSubresourceLayers {
+                aspect_mask: image.aspect,
+                mip_level: 0,
+                base_array_layer: 0,
+                layer_count: image.layers,
+            },
+            image_offset: vk::Offset3D { x: 0, y: 0, z: 0 },
+            image_extent: image.extent,
+        };
+        // SAFETY: the image is in TRANSFER_DST_OPTIMAL after `sync`; callers size the buffer to
+        // hold every texel of every layer.
+        unsafe {
+            self.gpu.shared.device.cmd_copy_buffer_to_image(
+                self.cmd,
+                buffer.raw,
+                image.raw,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            )
+        };
+        self.end_scope(scope);
+    }
+
     /// Make a buffer's device writes visible to the host once the submission's fence signals.
     pub fn host_read(&mut self, buffer: &Buffer) {
         self.sync(&[(Resource::Buffer(buffer), Access::HostRead)]);

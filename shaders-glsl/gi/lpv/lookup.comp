@@ -5,16 +5,17 @@
 // into radiance by the cell area and added, times albedo / pi, to the HDR image.
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"
-#include "gi/lpv/lattice.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
 layout(binding = LOOKUP_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
 layout(binding = LOOKUP_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
 layout(binding = LOOKUP_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
-layout(binding = LOOKUP_LATTICE_R, std430) readonly buffer LatticeR { vec4 lattice_r[]; };
-layout(binding = LOOKUP_LATTICE_G, std430) readonly buffer LatticeG { vec4 lattice_g[]; };
-layout(binding = LOOKUP_LATTICE_B, std430) readonly buffer LatticeB { vec4 lattice_b[]; };
+// The R, G and B lattices as 3-D images: the sampler's trilinear filter interpolates the eight
+// cells around a point, with transparent black (no light) outside the lattice.
+layout(binding = LOOKUP_LATTICE_R) uniform sampler3D lattice_r;
+layout(binding = LOOKUP_LATTICE_G) uniform sampler3D lattice_g;
+layout(binding = LOOKUP_LATTICE_B) uniform sampler3D lattice_b;
 layout(binding = LOOKUP_HDR, rgba32f) uniform image2D hdr;
 
 layout(push_constant) uniform Push {
@@ -33,20 +34,12 @@ void main() {
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
     vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
     vec3 p = position.xyz + n * (pc.offset * pc.origin_cell.w);
-    vec3 u = (p - pc.origin_cell.xyz) / pc.origin_cell.w - 0.5;
-    ivec3 base = ivec3(floor(u));
-    vec3 f = u - vec3(base);
+    // Cell c's centre lies at texture coordinate (c + 0.5) / dims.
+    vec3 t = (p - pc.origin_cell.xyz) / (pc.origin_cell.w * vec3(pc.dims.xyz));
     vec4 lobe = sh_cosine_lobe(-n);
-    vec3 incident = vec3(0.0);
-    for (int k = 0; k < 8; ++k) {
-        ivec3 corner = ivec3(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-        ivec3 c = base + corner;
-        if (!lattice_inside(c, pc.dims.xyz)) continue;
-        vec3 w3 = mix(1.0 - f, f, vec3(corner));
-        float w = w3.x * w3.y * w3.z;
-        uint i = lattice_index(c, pc.dims.xyz);
-        incident += w * vec3(dot(lattice_r[i], lobe), dot(lattice_g[i], lobe), dot(lattice_b[i], lobe));
-    }
+    vec3 incident = vec3(dot(textureLod(lattice_r, t, 0.0), lobe),
+                         dot(textureLod(lattice_g, t, 0.0), lobe),
+                         dot(textureLod(lattice_b, t, 0.0), lobe));
     vec3 radiance = albedo * max(incident, vec3(0.0)) * pc.scale;
     imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(radiance, 0.0));
 }
