@@ -90,12 +90,24 @@ float shadow_visibility(sampler2DArray shadow_map, ShadowView view, uint layer, 
     vec2 f = t - vec2(base);
     float wx[4] = float[4](1.0 - f.x, 1.0, 1.0, f.x);
     float wy[4] = float[4](1.0 - f.y, 1.0, 1.0, f.y);
+    // The 4x4 texels around `base` (clamped to the map's edges by the sampler), as four 2x2
+    // gathers: occluder[j][i] is texel base + (i - 1, j - 1). A gather at the corner shared by
+    // four texel centres returns them as (i0 j1, i1 j1, i1 j0, i0 j0).
+    float occluder[4][4];
+    for (int gj = 0; gj < 2; ++gj) {
+        for (int gi = 0; gi < 2; ++gi) {
+            vec2 corner = vec2(base + ivec2(2 * gi, 2 * gj));
+            vec4 g = textureGather(shadow_map, vec3(corner / vec2(size), float(layer)), 0);
+            occluder[2 * gj + 1][2 * gi] = g.x;
+            occluder[2 * gj + 1][2 * gi + 1] = g.y;
+            occluder[2 * gj][2 * gi + 1] = g.z;
+            occluder[2 * gj][2 * gi] = g.w;
+        }
+    }
     float lit = 0.0;
     for (int j = 0; j < 4; ++j) {
         for (int i = 0; i < 4; ++i) {
-            ivec2 texel = clamp(base + ivec2(i - 1, j - 1), ivec2(0), size - 1);
-            float occluder = texelFetch(shadow_map, ivec3(texel, int(layer)), 0).r;
-            lit += wx[i] * wy[j] * (ndc.z <= occluder ? 1.0 : 0.0);
+            lit += wx[i] * wy[j] * (ndc.z <= occluder[j][i] ? 1.0 : 0.0);
         }
     }
     return lit / 9.0;
