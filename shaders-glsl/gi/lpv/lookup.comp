@@ -2,29 +2,47 @@
 // Indirect light from the lattice: at each surface point pushed --lookup-offset cells along its
 // normal (default 1; the thesis: half a cell), the trilinearly interpolated SH intensity of the
 // R, G and B lattices is projected on the cosine lobe toward the surface, SH_cos(-n), turned
-// into radiance by the cell area and added, times albedo / pi, to the HDR image.
+// into radiance by the cell area and added, times albedo / pi, to the HDR image. ILPV's two
+// scales look up both lattices in one pass, each field clamped at zero on its own.
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
+// 1: one lattice; 2: the near and the far field of two scales.
+layout(constant_id = 0) const uint FIELDS = 1u;
+
 layout(binding = LOOKUP_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
 layout(binding = LOOKUP_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
 layout(binding = LOOKUP_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
-// The R, G and B lattices as 3-D images: the sampler's trilinear filter interpolates the eight
-// cells around a point, with transparent black (no light) outside the lattice.
+// Each field's R, G and B lattices as 3-D images: the sampler's trilinear filter interpolates
+// the eight cells around a point, with transparent black (no light) outside the lattice.
 layout(binding = LOOKUP_LATTICE_R) uniform sampler3D lattice_r;
 layout(binding = LOOKUP_LATTICE_G) uniform sampler3D lattice_g;
 layout(binding = LOOKUP_LATTICE_B) uniform sampler3D lattice_b;
+layout(binding = LOOKUP_FAR_LATTICE_R) uniform sampler3D far_lattice_r;
+layout(binding = LOOKUP_FAR_LATTICE_G) uniform sampler3D far_lattice_g;
+layout(binding = LOOKUP_FAR_LATTICE_B) uniform sampler3D far_lattice_b;
 layout(binding = LOOKUP_HDR, rgba32f) uniform image2D hdr;
 
 layout(push_constant) uniform Push {
-    vec4 origin_cell;   // xyz lattice origin, w cell size
-    ivec4 dims;
+    vec4 origin_cell[2];   // per field: xyz lattice origin, w cell size
+    ivec4 dims[2];
+    vec4 scale_offset[2];  // x: 1 / (pi cell²) times the method's scale; y: the offset in cells
     uvec2 size;
-    float scale;        // 1 / (pi cell²): intensity per cell -> radiance, times albedo / pi
-    float offset;       // along the normal, in cells (the thesis: 0.5)
 } pc;
+
+// Field `f`'s intensity toward the surface at `position` (normal `n`), clamped at zero.
+vec3 field_light(uint f, sampler3D r, sampler3D g, sampler3D b, vec3 position, vec3 n, vec4 lobe) {
+    vec4 origin_cell = pc.origin_cell[f];
+    vec3 p = position + n * (pc.scale_offset[f].y * origin_cell.w);
+    // Cell c's centre lies at texture coordinate (c + 0.5) / dims.
+    vec3 t = (p - origin_cell.xyz) / (origin_cell.w * vec3(pc.dims[f].xyz));
+    vec3 incident = vec3(dot(textureLod(r, t, 0.0), lobe),
+                         dot(textureLod(g, t, 0.0), lobe),
+                         dot(textureLod(b, t, 0.0), lobe));
+    return max(incident, vec3(0.0));
+}
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -33,13 +51,13 @@ void main() {
     if (position.w == 0.0) return;
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
     vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
-    vec3 p = position.xyz + n * (pc.offset * pc.origin_cell.w);
-    // Cell c's centre lies at texture coordinate (c + 0.5) / dims.
-    vec3 t = (p - pc.origin_cell.xyz) / (pc.origin_cell.w * vec3(pc.dims.xyz));
     vec4 lobe = sh_cosine_lobe(-n);
-    vec3 incident = vec3(dot(textureLod(lattice_r, t, 0.0), lobe),
-                         dot(textureLod(lattice_g, t, 0.0), lobe),
-                         dot(textureLod(lattice_b, t, 0.0), lobe));
-    vec3 radiance = albedo * max(incident, vec3(0.0)) * pc.scale;
-    imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(radiance, 0.0));
+    vec4 value = imageLoad(hdr, pixel);
+    value.rgb += albedo * field_light(0u, lattice_r, lattice_g, lattice_b, position.xyz, n, lobe)
+                 * pc.scale_offset[0].x;
+    if (FIELDS > 1u) {
+        value.rgb += albedo * field_light(1u, far_lattice_r, far_lattice_g, far_lattice_b,
+                                          position.xyz, n, lobe) * pc.scale_offset[1].x;
+    }
+    imageStore(hdr, pixel, value);
 }

@@ -9,6 +9,7 @@ pub mod entry;
 pub mod free_path;
 pub mod geometry;
 pub mod lattice;
+pub mod lookup;
 pub mod projected;
 pub mod technique;
 pub mod transfer;

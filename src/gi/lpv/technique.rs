@@ -10,6 +10,7 @@ use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
+use super::lookup::{Lookup, LookupField};
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
 use crate::gi::registry::Setup;
@@ -20,7 +21,7 @@ use crate::scene::dynamic::Aabb;
 use crate::scene::{Light, Scene};
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
-    ImageDesc, Part, Recorder, Sampler, Specialization,
+    ImageDesc, Part, Recorder, Specialization,
 };
 use crate::shaders;
 
@@ -359,16 +360,6 @@ crate::push_constants! {
     }
 }
 
-crate::push_constants! {
-    struct LookupPush {
-        origin_cell: [f32; 4],
-        dims: [i32; 4],
-        size: [u32; 2],
-        scale: f32,
-        offset: f32,
-    }
-}
-
 /// Workgroup tiles the tiled kernels try, largest first; the first whose halo-padded light and
 /// geometry tiles fit the device's shared memory is used.
 const TILE_CANDIDATES: [[u32; 3]; 6] = [
@@ -427,12 +418,12 @@ pub struct Lpv {
     merge_pipeline: ComputePipeline,
     compensate_pipeline: ComputePipeline,
     propagate_pipeline: ComputePipeline,
-    lookup_pipeline: ComputePipeline,
+    /// The lookup pass of a lattice looked up on its own (None: two scales look up both of
+    /// theirs in one pass).
+    lookup: Option<Lookup>,
     /// What the lookup samples: per channel, a copy of its result lattice as a 3-D image, read
     /// with the sampler's trilinear filter (one fetch instead of eight gathered loads).
     lookup_images: [Image; 3],
-    /// Trilinear, and transparent black outside the lattice (as if its outside were empty).
-    lookup_sampler: Sampler,
     /// The reflective shadow maps it injects from (None: a far field reads its near field's).
     rsm: Option<Rsm>,
     /// The propagation pass's name in the profile.
@@ -489,10 +480,26 @@ impl Lpv {
     /// [`super::two_scale::create`]'s).
     pub fn new(setup: &Setup, settings: LpvSettings) -> anyhow::Result<Lpv> {
         settings.validate()?;
-        Self::with_field(setup, settings, Field::Whole)
+        let mut lpv = Self::with_field(setup, settings, Field::Whole)?;
+        lpv.lookup = Some(Lookup::new(setup.gpu, 1)?);
+        Ok(lpv)
     }
 
-    /// One lattice of `field`'s part of the light (a far field gets no RSM of its own).
+    /// This lattice as the lookup reads it.
+    pub(super) fn lookup_field(&self) -> LookupField<'_> {
+        let cell = self.lattice.cell_size;
+        LookupField {
+            images: &self.lookup_images,
+            origin: self.lattice.origin,
+            cell_size: cell,
+            dims: self.dims(),
+            scale: self.lookup_scale() / (std::f32::consts::PI * cell * cell),
+            offset: self.settings.lookup_offset,
+        }
+    }
+
+    /// One lattice of `field`'s part of the light (a far field gets no RSM of its own), with no
+    /// lookup pass of its own: two scales look up both of theirs in one.
     pub(super) fn with_field(
         setup: &Setup,
         settings: LpvSettings,
@@ -667,15 +674,8 @@ impl Lpv {
                 &none,
             )?,
             propagate_pipeline,
-            lookup_pipeline: ComputePipeline::new(
-                gpu,
-                "lpv lookup",
-                shaders::GI_LPV_LOOKUP_COMP,
-                &none,
-            )?,
+            lookup: None,
             lookup_images: [lookup_image(0)?, lookup_image(1)?, lookup_image(2)?],
-            lookup_sampler: gpu
-                .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_BORDER)?,
             rsm,
             propagate_pass: match field {
                 Field::Whole => PROPAGATE,
@@ -1243,33 +1243,10 @@ impl GiMethod for Lpv {
     }
 
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
-        let view = &ctx.views[view];
-        let [r, g, b] = &self.lookup_images;
-        let o = self.lattice.origin;
-        let cell = self.lattice.cell_size;
-        let push = LookupPush {
-            origin_cell: [o.x, o.y, o.z, cell],
-            dims: self.dims(),
-            size: [view.width(), view.height()],
-            scale: self.lookup_scale() / (std::f32::consts::PI * cell * cell),
-            offset: self.settings.lookup_offset,
-        };
-        let gb = &view.gbuffer;
-        rec.compute(&ComputePass {
-            name: "lpv lookup",
-            pipeline: &self.lookup_pipeline,
-            bindings: &[
-                Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
-                Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
-                Binding::image_read(ids::LOOKUP_GBUFFER_ALBEDO, &gb.albedo),
-                Binding::sampled(ids::LOOKUP_LATTICE_R, r, &self.lookup_sampler),
-                Binding::sampled(ids::LOOKUP_LATTICE_G, g, &self.lookup_sampler),
-                Binding::sampled(ids::LOOKUP_LATTICE_B, b, &self.lookup_sampler),
-                Binding::image_write(ids::LOOKUP_HDR, &view.hdr),
-            ],
-            push: &push,
-            threads: [view.width(), view.height(), 1],
-        })
+        let lookup = self.lookup.as_ref().ok_or_else(|| {
+            GpuError::Setup("a lattice of two scales is looked up by its two-scale owner".into())
+        })?;
+        lookup.record(rec, ctx, view, &[self.lookup_field()])
     }
 
     fn geometry_moved(

@@ -16,6 +16,7 @@
 //! cells (it is coarse on purpose); the sealed-box leak tests run on one lattice.
 
 use super::free_path::mean_free_path;
+use super::lookup::Lookup;
 use super::technique::{FarLattice, Field, IlpvLookup, Lpv, LpvSettings, Scheme};
 use crate::gi::registry::Setup;
 use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod};
@@ -31,6 +32,8 @@ pub const FAR_CELL_IN_FREE_PATHS: f64 = 0.45;
 pub struct TwoScale {
     pub near: Lpv,
     pub far: Lpv,
+    /// Both fields' lookup, in one pass.
+    lookup: Lookup,
 }
 
 impl TwoScale {
@@ -47,9 +50,11 @@ impl TwoScale {
             far_lattice: FarLattice::Off,
             ..settings
         };
+        near.validate()?;
         Ok(TwoScale {
-            near: Lpv::new(setup, near)?,
+            near: Lpv::with_field(setup, near, Field::Whole)?,
             far: Lpv::with_field(setup, far, Field::Far)?,
+            lookup: Lookup::new(setup.gpu, 2)?,
         })
     }
 }
@@ -88,8 +93,8 @@ impl GiMethod for TwoScale {
     }
 
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
-        self.near.record_lookup(rec, ctx, view)?;
-        self.far.record_lookup(rec, ctx, view)
+        let fields = [self.near.lookup_field(), self.far.lookup_field()];
+        self.lookup.record(rec, ctx, view, &fields)
     }
 
     fn geometry_moved(

@@ -1,0 +1,107 @@
+//! The lookup pass: indirect light from one lattice, or from both lattices of ILPV's two
+//! scales in one pass, so that the G-buffer is read and the HDR image read and written once.
+
+use ash::vk;
+use glam::Vec3;
+
+use super::bindings as ids;
+use crate::gi::FrameContext;
+use crate::gpu::{
+    Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, Recorder, Sampler,
+    Specialization,
+};
+use crate::shaders;
+
+crate::push_constants! {
+    struct LookupPush {
+        origin_cell: [[f32; 4]; 2],
+        dims: [[i32; 4]; 2],
+        scale_offset: [[f32; 4]; 2],
+        size: [u32; 2],
+    }
+}
+
+/// One lattice as the lookup reads it.
+pub struct LookupField<'a> {
+    /// The R, G and B lattices as 3-D images.
+    pub images: &'a [Image; 3],
+    pub origin: Vec3,
+    pub cell_size: f32,
+    pub dims: [i32; 4],
+    /// Intensity per cell to radiance: the method's scale over π cell².
+    pub scale: f32,
+    /// How far along the normal the lookup moves, in cells.
+    pub offset: f32,
+}
+
+impl LookupField<'_> {
+    fn origin_cell(&self) -> [f32; 4] {
+        [self.origin.x, self.origin.y, self.origin.z, self.cell_size]
+    }
+}
+
+/// The lookup pipeline for a number of fields (1 or 2), and its trilinear sampler.
+pub struct Lookup {
+    pipeline: ComputePipeline,
+    /// Trilinear, and transparent black outside the lattice (as if its outside were empty).
+    sampler: Sampler,
+    fields: usize,
+}
+
+impl Lookup {
+    pub fn new(gpu: &Gpu, fields: usize) -> GpuResult<Lookup> {
+        assert!(matches!(fields, 1 | 2), "the lookup reads one or two fields");
+        let spec = Specialization::new().with_u32(0, fields as u32);
+        Ok(Lookup {
+            pipeline: ComputePipeline::new(gpu, "lpv lookup", shaders::GI_LPV_LOOKUP_COMP, &spec)?,
+            sampler: gpu
+                .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_BORDER)?,
+            fields,
+        })
+    }
+
+    /// Add `fields`' indirect light to view `view`'s HDR image.
+    pub fn record(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        view: usize,
+        fields: &[LookupField],
+    ) -> GpuResult<()> {
+        assert_eq!(fields.len(), self.fields, "the lookup was built for {} fields", self.fields);
+        // A one-field lookup binds its lattice in the far slots too; the shader leaves them be.
+        let far = fields.last().unwrap_or(&fields[0]);
+        let near = &fields[0];
+        let view = &ctx.views[view];
+        let push = LookupPush {
+            origin_cell: [near.origin_cell(), far.origin_cell()],
+            dims: [near.dims, far.dims],
+            scale_offset: [
+                [near.scale, near.offset, 0.0, 0.0],
+                [far.scale, far.offset, 0.0, 0.0],
+            ],
+            size: [view.width(), view.height()],
+        };
+        let gb = &view.gbuffer;
+        let [r, g, b] = near.images;
+        let [far_r, far_g, far_b] = far.images;
+        rec.compute(&ComputePass {
+            name: "lpv lookup",
+            pipeline: &self.pipeline,
+            bindings: &[
+                Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
+                Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
+                Binding::image_read(ids::LOOKUP_GBUFFER_ALBEDO, &gb.albedo),
+                Binding::sampled(ids::LOOKUP_LATTICE_R, r, &self.sampler),
+                Binding::sampled(ids::LOOKUP_LATTICE_G, g, &self.sampler),
+                Binding::sampled(ids::LOOKUP_LATTICE_B, b, &self.sampler),
+                Binding::sampled(ids::LOOKUP_FAR_LATTICE_R, far_r, &self.sampler),
+                Binding::sampled(ids::LOOKUP_FAR_LATTICE_G, far_g, &self.sampler),
+                Binding::sampled(ids::LOOKUP_FAR_LATTICE_B, far_b, &self.sampler),
+                Binding::image_write(ids::LOOKUP_HDR, &view.hdr),
+            ],
+            push: &push,
+            threads: [view.width(), view.height(), 1],
+        })
+    }
+}
