@@ -6,8 +6,6 @@
 layout(binding = RASTER_TEXTURES, std430) readonly buffer Textures { uint texture_words[]; };
 #include "common/texture.glsl"
 
-layout(binding = RASTER_MATERIALS, std430) readonly buffer Materials { Material materials[]; };
-
 layout(push_constant) uniform Push {
     mat4 view_projection;
     vec4 camera_position;
@@ -16,8 +14,10 @@ layout(push_constant) uniform Push {
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) flat in vec3 in_face_normal;
-layout(location = 3) flat in uint in_material;
-layout(location = 4) in vec2 in_texcoord;
+layout(location = 3) in vec2 in_texcoord;
+layout(location = 4) flat in vec4 in_albedo;
+layout(location = 5) flat in vec4 in_emission;
+layout(location = 6) flat in vec4 in_specular;
 
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
@@ -30,7 +30,7 @@ void main() {
     float facing = dot(in_face_normal, pc.camera_position.xyz - in_position) >= 0.0 ? 1.0 : -1.0;
     vec3 n = shading_normal(in_normal, in_face_normal) * facing;
     if (dot(n, in_face_normal * facing) <= 0.0) n = in_face_normal * facing;
-    Material m = materials[in_material];
+    Material m = Material(in_albedo, in_emission, in_specular);
     out_position = vec4(in_position, 1.0);
     out_normal = vec4(n, 0.0);
     out_albedo = vec4(material_albedo(m, in_texcoord), 1.0);

@@ -2,15 +2,14 @@
 // Reflective shadow map (Dachsbacher & Stamminger 2005) of one light view: world position,
 // normal (toward the light) and the flux the texel's surface reflects: albedo times the light's
 // intensity toward it times the texel's solid angle (exact for a perspective texel:
-// (extent / size)² cos³ of the angle to the view axis). Runs with raster/gbuffer.vert, whose
-// "camera position" is the light's position here.
+// (extent / size)² cos³ of the angle to the view axis). Runs with rsm.vert, whose "camera
+// position" is the light's position here.
 #include "common/scene.glsl"
 
 layout(binding = RSM_TEXTURES, std430) readonly buffer Textures { uint texture_words[]; };
 #include "common/texture.glsl"
 #include "common/lights.glsl"
 
-layout(binding = RSM_MATERIALS, std430) readonly buffer Materials { Material materials[]; };
 layout(binding = RSM_LIGHTS, std430) readonly buffer Lights { Light lights[]; };
 layout(binding = RSM_VIEWS, std430) readonly buffer ShadowViews { ShadowView views[]; };
 
@@ -24,8 +23,8 @@ layout(push_constant) uniform Push {
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) flat in vec3 in_face_normal;
-layout(location = 3) flat in uint in_material;
-layout(location = 4) in vec2 in_texcoord;
+layout(location = 3) in vec2 in_texcoord;
+layout(location = 4) flat in vec4 in_albedo;
 
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
@@ -46,5 +45,5 @@ void main() {
     vec3 intensity = irradiance_factor * distance * distance;
     out_position = vec4(in_position, 1.0);
     out_normal = vec4(n, 0.0);
-    out_flux = vec4(material_albedo(materials[in_material], in_texcoord) * intensity * solid_angle, 0.0);
+    out_flux = vec4(material_albedo(Material(in_albedo, vec4(0.0), vec4(0.0)), in_texcoord) * intensity * solid_angle, 0.0);
 }

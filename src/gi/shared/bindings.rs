@@ -2,8 +2,9 @@
 //! shaders-glsl/gi/ (build.rs reads them from here).
 
 crate::shared_constants! {
-    // ---- reflective shadow maps (shaders-glsl/gi/shared/rsm.frag; the vertex stage is the
-    // G-buffer's, bound with RASTER_VERTICES and RASTER_TRIANGLES) ----
+    // ---- reflective shadow maps (shaders-glsl/gi/shared/rsm.vert and rsm.frag; the vertex
+    // stage is the G-buffer's, bound with RASTER_VERTICES and RASTER_TRIANGLES, and reads
+    // RSM_MATERIALS) ----
     RSM_MATERIALS: u32 = 2;
     RSM_LIGHTS: u32 = 3;
     RSM_VIEWS: u32 = 4;

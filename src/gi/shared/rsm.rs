@@ -42,7 +42,7 @@ impl Rsm {
             gpu,
             &RasterPipelineDesc {
                 name: "rsm",
-                vertex: shaders::RASTER_GBUFFER_VERT,
+                vertex: shaders::GI_SHARED_RSM_VERT,
                 fragment: Some(shaders::GI_SHARED_RSM_FRAG),
                 color_formats: &[
                     vk::Format::R32G32B32A32_SFLOAT,
