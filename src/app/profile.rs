@@ -9,12 +9,13 @@ use anyhow::Context;
 use serde::Serialize;
 
 use crate::error::InputError;
+use crate::gi::PixelPass;
 use crate::gi::registry::{self, MethodEntry, Setup};
 use crate::gi::settings::Settings;
 use crate::gpu::profiler::summarize;
 use crate::gpu::{Gpu, ProfileReport, Stage};
 use crate::render::runner::run_frames;
-use crate::render::{Frame, FrameOptions, SubmitPlan};
+use crate::render::{Frame, FrameOptions, SubmitPlan, cost};
 use crate::scene::Scene;
 
 use super::cli::ProfileCommandArgs;
@@ -79,6 +80,9 @@ pub struct ConfigSummary {
     pub setup_ms: f64,
     pub frame_median_ns: f64,
     pub core: Option<CoreSummary>,
+    /// The frame's and the method's per-pixel passes against the device's bounds (unit
+    /// "pixel", units the view's pixels).
+    pub pixel_passes: Vec<CoreSummary>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -173,6 +177,7 @@ pub fn run(
 ) -> anyhow::Result<ProfileResult> {
     let scene = Scene::load(&config.scene)?;
     let statistics = scene.statistics();
+    let lights = scene.raster_lights().len() as u32;
     let mut plan = Vec::new();
     for entry in entries(&config.methods)? {
         for (value, settings) in configurations(entry, &config.grid)? {
@@ -250,6 +255,18 @@ pub fn run(
                 flops_per_unit: c.flops_per_unit,
             }
         });
+        let pixels = config.size.0 as usize * config.size.1 as usize;
+        let pixel_passes = cost::pixel_passes(lights)
+            .into_iter()
+            .map(|p| (None, p))
+            .chain(
+                method
+                    .pixel_passes()
+                    .into_iter()
+                    .map(|p| (Some(entry.name), p)),
+            )
+            .map(|(owner, p)| pixel_summary(&report, &limits, owner, &p, pixels))
+            .collect();
         configs.push(ConfigSummary {
             method: entry.name,
             axis: entry.profile_axis,
@@ -259,6 +276,7 @@ pub fn run(
             setup_ms,
             frame_median_ns: report.frame.as_ref().map_or(0.0, |f| f.median_ns),
             core,
+            pixel_passes,
         });
         progress(configs.len() as u32, total);
     }
@@ -292,13 +310,42 @@ pub fn run(
 
 /// The median time of one run of `method`'s core pass `pass` in `report` (0 if it never ran).
 pub fn core_pass_median(report: &ProfileReport, method: &str, pass: &str) -> f64 {
+    pass_median(report, Some(method), pass)
+}
+
+/// The median time of one run of pass `pass` of `owner` (None: the frame) in `report` (0 if
+/// it never ran).
+fn pass_median(report: &ProfileReport, owner: Option<&str>, pass: &str) -> f64 {
     let times: Vec<f64> = report
         .passes
         .iter()
-        .filter(|p| p.tag.method == Some(method) && p.tag.pass == pass)
+        .filter(|p| p.tag.method == owner && p.tag.pass == pass)
         .flat_map(|p| p.per_frame_ns.iter().copied())
         .collect();
     summarize("core", times.len(), times).median_ns
+}
+
+/// Per-pixel pass `pass` of `owner` (None: the frame) over `pixels` pixels against the bound.
+fn pixel_summary(
+    report: &ProfileReport,
+    limits: &DeviceLimits,
+    owner: Option<&str>,
+    pass: &PixelPass,
+    pixels: usize,
+) -> CoreSummary {
+    let median = pass_median(report, owner, pass.pass);
+    let units = pixels.max(1) as f64;
+    let bound = limits.bound_ns(pass.bytes_per_pixel * units, pass.flops_per_pixel * units);
+    CoreSummary {
+        pass: pass.pass,
+        unit: "pixel",
+        units: pixels,
+        median_ns: median,
+        ns_per_unit: median / units,
+        fraction_of_bound: if median > 0.0 { bound / median } else { 0.0 },
+        bytes_per_unit: pass.bytes_per_pixel,
+        flops_per_unit: pass.flops_per_pixel,
+    }
 }
 
 /// Least-squares slope of ln(time) against ln(units); NaN with fewer than two sizes.
@@ -377,7 +424,7 @@ impl ProfileResult {
                     p.pass, p.median_ns, p.min_ns, p.max_ns, per_unit, fraction
                 );
             }
-            if let Some(k) = &c.core {
+            for k in c.core.iter().chain(&c.pixel_passes) {
                 let _ = writeln!(
                     out,
                     "  {}: {:.0} ns median over {} {}s, {:.2} ns per {}, {:.1}% of the device bound ({} B, {} flops per {})",

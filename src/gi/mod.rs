@@ -110,6 +110,16 @@ pub struct CorePass {
     pub flops_per_unit: f64,
 }
 
+/// A pass that runs once per pixel of a view, and what it must move and compute per pixel at
+/// the ideal, for the bound `vkgi profile` measures it against.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PixelPass {
+    /// The pass's name in the profile (its `ScopeTag::pass`).
+    pub pass: &'static str,
+    pub bytes_per_pixel: f64,
+    pub flops_per_pixel: f64,
+}
+
 /// A GI method: persistent GPU state plus the passes it adds to a frame.
 pub trait GiMethod {
     /// The name it is registered under (tags its passes in the profile).
@@ -179,6 +189,12 @@ pub trait GiMethod {
     /// The pass `vkgi profile` measures against the device's bounds, if the method has one.
     fn core_pass(&self) -> Option<CorePass> {
         None
+    }
+
+    /// The method's per-pixel passes (e.g. its lookup), which `vkgi profile` measures per pixel
+    /// against the device's bounds.
+    fn pixel_passes(&self) -> Vec<PixelPass> {
+        Vec::new()
     }
 
     /// Lines for the profile: how the method runs (lattice, kernels, cache sizes...).

@@ -2,6 +2,7 @@
 //! maps, G-buffer, direct light, tone mapping), THE frame that orders them around a GI method,
 //! and the loop that runs frames and reads their profile.
 
+pub mod cost;
 pub mod frame;
 pub mod passes;
 pub mod runner;

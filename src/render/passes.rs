@@ -12,6 +12,11 @@ use crate::scene::gpu::SceneBuffers;
 use crate::shader_shared as ids;
 use crate::shaders;
 
+/// The frame's per-pixel passes' names in the profile.
+pub const GBUFFER: &str = "g-buffer";
+pub const DIRECT_LIGHTING: &str = "direct lighting";
+pub const TONE_MAP: &str = "tone map";
+
 crate::push_constants! {
     struct GBufferPush {
         view_projection: [[f32; 4]; 4],
@@ -69,7 +74,7 @@ impl ScenePasses {
             gbuffer: RasterPipeline::new(
                 gpu,
                 &RasterPipelineDesc {
-                    name: "g-buffer",
+                    name: GBUFFER,
                     vertex: shaders::RASTER_GBUFFER_VERT,
                     fragment: Some(shaders::RASTER_GBUFFER_FRAG),
                     color_formats: &GBUFFER_FORMATS,
@@ -81,11 +86,11 @@ impl ScenePasses {
             )?,
             lighting: ComputePipeline::new(
                 gpu,
-                "direct lighting",
+                DIRECT_LIGHTING,
                 shaders::RASTER_LIGHTING_COMP,
                 &none,
             )?,
-            tonemap: ComputePipeline::new(gpu, "tone map", shaders::RASTER_TONEMAP_COMP, &none)?,
+            tonemap: ComputePipeline::new(gpu, TONE_MAP, shaders::RASTER_TONEMAP_COMP, &none)?,
         })
     }
 
@@ -130,7 +135,7 @@ impl ScenePasses {
         };
         let g = &view.gbuffer;
         rec.raster(&RasterPass {
-            name: "g-buffer",
+            name: GBUFFER,
             pipeline: &self.gbuffer,
             bindings: &[
                 Binding::read(ids::RASTER_VERTICES, &scene.vertices),
@@ -170,7 +175,7 @@ impl ScenePasses {
             include_direct: u32::from(include_direct),
         };
         rec.compute(&ComputePass {
-            name: "direct lighting",
+            name: DIRECT_LIGHTING,
             pipeline: &self.lighting,
             bindings: &[
                 Binding::image_read(ids::LIGHTING_GBUFFER_POSITION, &g.position),
@@ -200,7 +205,7 @@ impl ScenePasses {
             exposure_scale: exposure_ev.exp2(),
         };
         rec.compute(&ComputePass {
-            name: "tone map",
+            name: TONE_MAP,
             pipeline: &self.tonemap,
             bindings: &[
                 Binding::image_read(ids::TONEMAP_HDR_IN, &view.hdr),

@@ -16,6 +16,14 @@
 //! dst += lobe·flux 8: 17; per axis 5 faces plus blocking (the mean geometry of two cells 5 with
 //! an SH lobe, the blocking function, clamp 2): 99 with an SH lobe (594 per cell), 116 with the
 //! projected area (696), 89 with visibility (534).
+//!
+//! The lookup, per pixel: the G-buffer's position (16 B), normal and albedo (8 B each, half
+//! floats) read and the HDR pixel read and written (32 B), 64 B; a lattice is small enough to
+//! stay in cache, so at the ideal its cells are read once a frame, not per pixel. Arithmetic:
+//! the normal's normalisation 9 and the cosine lobe 3, then per lattice the offset point 7, the
+//! texture coordinate 9, the trilinear weights 22 (fractions, complements, eight corner
+//! products), the blend of 8 corners × 4 coefficients × 3 channels 192, the projections on the
+//! lobe 21, the clamp 3, albedo and scale 6 and the sum 3: 263.
 
 use super::technique::Scheme;
 
@@ -51,6 +59,14 @@ pub fn flops_per_cell(scheme: Scheme, geometry_words: u32) -> f64 {
     }
 }
 
+/// Bytes the lookup moves per pixel at the ideal.
+pub const LOOKUP_BYTES_PER_PIXEL: f64 = 64.0;
+
+/// Flops of a lookup of `lattices` lattices (two for ILPV's two scales) per pixel.
+pub fn lookup_flops_per_pixel(lattices: u32) -> f64 {
+    12.0 + 263.0 * f64::from(lattices)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -67,5 +83,7 @@ mod tests {
         assert_eq!(bytes_per_cell(Scheme::Lpv, true, 1), 80.0);
         assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3), 80.0);
         assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 4), 96.0);
+        assert_eq!(lookup_flops_per_pixel(1), 275.0);
+        assert_eq!(lookup_flops_per_pixel(2), 538.0);
     }
 }

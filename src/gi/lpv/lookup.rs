@@ -5,12 +5,16 @@ use ash::vk;
 use glam::Vec3;
 
 use super::bindings as ids;
-use crate::gi::FrameContext;
+use super::cost;
+use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, Recorder, Sampler,
     Specialization,
 };
 use crate::shaders;
+
+/// The pass's name in the profile.
+const LOOKUP: &str = "lpv lookup";
 
 crate::push_constants! {
     struct LookupPush {
@@ -18,6 +22,15 @@ crate::push_constants! {
         dims: [[i32; 4]; 2],
         scale_offset: [[f32; 4]; 2],
         size: [u32; 2],
+    }
+}
+
+/// The lookup of `lattices` lattices as a per-pixel pass of the profile.
+pub fn lookup_pass(lattices: u32) -> PixelPass {
+    PixelPass {
+        pass: LOOKUP,
+        bytes_per_pixel: cost::LOOKUP_BYTES_PER_PIXEL,
+        flops_per_pixel: cost::lookup_flops_per_pixel(lattices),
     }
 }
 
@@ -53,7 +66,7 @@ impl Lookup {
         assert!(matches!(fields, 1 | 2), "the lookup reads one or two fields");
         let spec = Specialization::new().with_u32(0, fields as u32);
         Ok(Lookup {
-            pipeline: ComputePipeline::new(gpu, "lpv lookup", shaders::GI_LPV_LOOKUP_COMP, &spec)?,
+            pipeline: ComputePipeline::new(gpu, LOOKUP, shaders::GI_LPV_LOOKUP_COMP, &spec)?,
             sampler: gpu
                 .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_BORDER)?,
             fields,
@@ -86,7 +99,7 @@ impl Lookup {
         let [r, g, b] = near.images;
         let [far_r, far_g, far_b] = far.images;
         rec.compute(&ComputePass {
-            name: "lpv lookup",
+            name: LOOKUP,
             pipeline: &self.pipeline,
             bindings: &[
                 Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),

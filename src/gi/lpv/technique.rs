@@ -10,13 +10,13 @@ use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
-use super::lookup::{Lookup, LookupField};
+use super::lookup::{Lookup, LookupField, lookup_pass};
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
 use crate::gi::registry::Setup;
 use crate::gi::shared::rsm::Rsm;
 use crate::gi::shared::sh;
-use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod};
+use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod, PixelPass};
 use crate::scene::dynamic::Aabb;
 use crate::scene::{Light, Scene};
 use crate::gpu::{
@@ -1287,6 +1287,10 @@ impl GiMethod for Lpv {
             flops_per_unit: cost::flops_per_cell(self.settings.scheme, self.geometry_words()),
         })
     }
+    fn pixel_passes(&self) -> Vec<PixelPass> {
+        vec![lookup_pass(1)]
+    }
+
     fn describe(&self) -> Vec<String> {
         let d = self.lattice.dims;
         let kernel = if self.settings.tiled {

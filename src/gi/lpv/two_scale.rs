@@ -16,10 +16,10 @@
 //! cells (it is coarse on purpose); the sealed-box leak tests run on one lattice.
 
 use super::free_path::mean_free_path;
-use super::lookup::Lookup;
+use super::lookup::{Lookup, lookup_pass};
 use super::technique::{FarLattice, Field, IlpvLookup, Lpv, LpvSettings, Scheme};
 use crate::gi::registry::Setup;
-use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod};
+use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod, PixelPass};
 use crate::gpu::{Gpu, GpuError, GpuResult, Recorder};
 use crate::scene::Scene;
 use crate::scene::dynamic::Aabb;
@@ -129,6 +129,11 @@ impl GiMethod for TwoScale {
     /// cells would hide the lattice the user sized).
     fn core_pass(&self) -> Option<CorePass> {
         self.near.core_pass()
+    }
+
+    /// Both lattices' lookup, in one pass.
+    fn pixel_passes(&self) -> Vec<PixelPass> {
+        vec![lookup_pass(2)]
     }
 
     fn describe(&self) -> Vec<String> {

@@ -1,0 +1,40 @@
+//! What the frame's own per-pixel passes must move and compute per pixel at the ideal, for the
+//! bound `vkgi profile` measures them against (as src/gi/lpv/cost.rs does for propagation). A
+//! multiply-add is 2 flops; a square root, division or comparison counts 1.
+//!
+//! * **G-buffer**: position (16 B), normal, albedo, emission and the glossy lobe (8 B each,
+//!   half floats) and depth (4 B) written, depth read by the test (4 B): 56 B per covered pixel,
+//!   each pixel drawn once (overdraw is the scene's, not the pass's). Arithmetic: the varyings'
+//!   interpolation 32, facing 8, the shading normal 20: 60.
+//! * **Direct lighting**: the G-buffer read (48 B) and the HDR pixel written (16 B): 64 B (a
+//!   shadow texel serves many neighbouring pixels: at the ideal each is read once a frame).
+//!   Arithmetic: the normal and the direction to the eye 21, the sum 9, and per light the
+//!   incidence 17, the cosine 5, the shadow view 3, the 3x3 bilinear PCF 114 (the offset point
+//!   5, the 4x4 projection 28, the divide 4, texel coordinates and fractions 12, weights 2, 16
+//!   comparisons and 16 weighted sums 64, the scale 1) and the accumulation 7: 146.
+//! * **Tone map**: the HDR pixel read (16 B) and the 8-bit pixel written (4 B): 20 B.
+//!   Arithmetic: exposure 3, Reinhard 6, the sRGB curve 15: 24.
+
+use super::passes::{DIRECT_LIGHTING, GBUFFER, TONE_MAP};
+use crate::gi::PixelPass;
+
+/// The frame's per-pixel passes with `lights` rasterised lights.
+pub fn pixel_passes(lights: u32) -> Vec<PixelPass> {
+    vec![
+        PixelPass {
+            pass: GBUFFER,
+            bytes_per_pixel: 56.0,
+            flops_per_pixel: 60.0,
+        },
+        PixelPass {
+            pass: DIRECT_LIGHTING,
+            bytes_per_pixel: 64.0,
+            flops_per_pixel: 30.0 + 146.0 * f64::from(lights),
+        },
+        PixelPass {
+            pass: TONE_MAP,
+            bytes_per_pixel: 20.0,
+            flops_per_pixel: 24.0,
+        },
+    ]
+}
