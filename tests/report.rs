@@ -106,6 +106,34 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
     for s in profile["scaling"].as_array().unwrap() {
         assert!(s["exponent"].as_f64().unwrap().is_finite());
     }
+    assert!(stdout.contains("ns per pixel"), "{stdout}");
+    for config in profile["configs"].as_array().unwrap() {
+        let method = config["method"].as_str().unwrap();
+        let pixel_passes = config["pixel_passes"].as_array().unwrap();
+        let names: Vec<&str> = pixel_passes
+            .iter()
+            .map(|p| p["pass"].as_str().unwrap())
+            .collect();
+        let mut expected = vec!["g-buffer", "direct lighting", "tone map"];
+        if method.contains("lpv") {
+            expected.push("lpv lookup");
+        }
+        assert_eq!(names, expected, "{method}");
+        for p in pixel_passes {
+            assert_eq!(p["unit"], "pixel", "{p}");
+            assert_eq!(p["units"].as_u64(), Some(32 * 24), "{p}");
+            for key in [
+                "median_ns",
+                "ns_per_unit",
+                "bytes_per_unit",
+                "flops_per_unit",
+            ] {
+                assert!(p[key].as_f64().unwrap() > 0.0, "{method}: {key} in {p}");
+            }
+            let fraction = p["fraction_of_bound"].as_f64().unwrap();
+            assert!(fraction.is_finite() && fraction > 0.0, "{method}: {p}");
+        }
+    }
     assert_eq!(
         std::fs::read_to_string(&csv).unwrap().lines().count(),
         passes.len() + 1
