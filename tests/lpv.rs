@@ -1675,3 +1675,139 @@ fn default_settings_beat_the_best_constant_ambient_term() {
     );
     common::assert_no_validation_errors(&gpu);
 }
+
+/// A half float's value.
+fn half(bits: u16) -> f64 {
+    let sign = if bits >> 15 == 1 { -1.0 } else { 1.0 };
+    let exponent = i32::from((bits >> 10) & 0x1f);
+    let mantissa = f64::from(bits & 0x3ff);
+    match exponent {
+        0 => sign * mantissa * 2f64.powi(-24),
+        31 => f64::NAN,
+        _ => sign * (1.0 + mantissa / 1024.0) * 2f64.powi(exponent - 15),
+    }
+}
+
+/// A view's image of four floats per texel (`half`: 16-bit ones) as f64 vectors.
+fn texels(gpu: &vkgi::gpu::Gpu, image: &vkgi::gpu::Image, half_floats: bool) -> Vec<DVec4> {
+    let bytes = gpu.read_image(image).unwrap();
+    if half_floats {
+        let words: &[u16] = bytemuck::cast_slice(&bytes);
+        words
+            .chunks(4)
+            .map(|t| DVec4::new(half(t[0]), half(t[1]), half(t[2]), half(t[3])))
+            .collect()
+    } else {
+        let words: &[f32] = bytemuck::cast_slice(&bytes);
+        words
+            .chunks(4)
+            .map(|t| DVec4::new(t[0].into(), t[1].into(), t[2].into(), t[3].into()))
+            .collect()
+    }
+}
+
+/// The lookup in f64: at `p` pushed `offset` cells along `n`, the lattices' trilinear
+/// interpolation (cells outside count as empty) projected on SH_cos(-n), clamped at zero and
+/// scaled, per channel.
+fn cpu_lookup(lpv: &Lpv, lattices: &[Vec<[f32; 4]>; 3], p: DVec3, n: DVec3) -> DVec3 {
+    let field = lpv.lookup_field();
+    let cell = f64::from(field.cell_size);
+    let dims = [field.dims[0], field.dims[1], field.dims[2]];
+    let at = p + n * (f64::from(field.offset) * cell);
+    let u = (at - field.origin.as_dvec3()) / cell - DVec3::splat(0.5);
+    let base = u.floor();
+    let f = u - base;
+    let lobe = sh::cosine_lobe(-n);
+    let mut incident = DVec3::ZERO;
+    for k in 0..8 {
+        let corner = [k & 1, (k >> 1) & 1, (k >> 2) & 1];
+        let c = [0, 1, 2].map(|a| base[a] as i32 + corner[a]);
+        if (0..3).any(|a| c[a] < 0 || c[a] >= dims[a]) {
+            continue;
+        }
+        let w: f64 = (0..3)
+            .map(|a| if corner[a] == 1 { f[a] } else { 1.0 - f[a] })
+            .product();
+        let i = ((c[2] * dims[1] + c[1]) * dims[0] + c[0]) as usize;
+        let sh = |channel: usize| DVec4::from_array(lattices[channel][i].map(f64::from));
+        incident += w * DVec3::new(sh(0).dot(lobe), sh(1).dot(lobe), sh(2).dot(lobe));
+    }
+    incident.max(DVec3::ZERO) * f64::from(field.scale)
+}
+
+/// A frame's HDR image and the G-buffer's position, normal and albedo after `frames` frames.
+struct Rendered {
+    hdr: Vec<[f32; 3]>,
+    position: Vec<DVec4>,
+    normal: Vec<DVec4>,
+    albedo: Vec<DVec4>,
+}
+
+fn render_indirect(
+    gpu: &vkgi::gpu::Gpu,
+    scene: &Scene,
+    method: &mut dyn vkgi::gi::GiMethod,
+) -> Rendered {
+    let mut frame = vkgi::render::Frame::new(gpu, scene, common::indirect_only(40, 30)).unwrap();
+    drop(vkgi::render::runner::run_frames(gpu, &mut frame, Some(method), 0, 3).unwrap());
+    let g = &frame.views[0].gbuffer;
+    Rendered {
+        hdr: frame.read_hdr(gpu).unwrap(),
+        position: texels(gpu, &g.position, false),
+        normal: texels(gpu, &g.normal, true),
+        albedo: texels(gpu, &g.albedo, true),
+    }
+}
+
+/// The GPU lookup of `fields` against the f64 lookup of their read-back lattices.
+fn assert_lookup_matches(gpu: &vkgi::gpu::Gpu, name: &str, fields: &[&Lpv], r: &Rendered) {
+    let lattices: Vec<[Vec<[f32; 4]>; 3]> =
+        fields.iter().map(|l| l.read_result(gpu).unwrap()).collect();
+    let (mut worst, mut brightest, mut difference, mut total) = (0.0f64, 0.0f64, 0.0, 0.0);
+    for (i, gpu_pixel) in r.hdr.iter().enumerate() {
+        let expected = if r.position[i].w == 0.0 {
+            DVec3::ZERO
+        } else {
+            let n = r.normal[i].truncate().normalize();
+            let p = r.position[i].truncate();
+            let light: DVec3 = fields
+                .iter()
+                .zip(&lattices)
+                .map(|(lpv, l)| cpu_lookup(lpv, l, p, n))
+                .sum();
+            r.albedo[i].truncate() * light
+        };
+        for c in 0..3 {
+            let d = (f64::from(gpu_pixel[c]) - expected[c]).abs();
+            worst = worst.max(d);
+            brightest = brightest.max(expected[c]);
+            difference += d;
+            total += expected[c];
+        }
+    }
+    assert!(total > 0.0, "{name}: no indirect light");
+    assert!(
+        worst <= 1e-4 * brightest && difference <= 1e-5 * total,
+        "{name}: worst {worst} of {brightest}, summed {difference} of {total}"
+    );
+}
+
+/// The lookup samples 3-D copies of the lattices with the trilinear filter, and two scales look
+/// up both lattices in one pass: both against the f64 lookup of the same lattices and G-buffer.
+#[test]
+fn the_lookup_matches_an_f64_lookup_of_the_same_lattices_with_one_and_two_scales() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let setup = Setup::new(&gpu, &scene);
+    let one = LpvSettings {
+        far_lattice: FarLattice::Off,
+        ..ilpv(10)
+    };
+    let mut single = Lpv::new(&setup, one).unwrap();
+    let rendered = render_indirect(&gpu, &scene, &mut single);
+    assert_lookup_matches(&gpu, "one lattice", &[&single], &rendered);
+    let mut two = two_scale::TwoScale::new(&setup, ilpv(10), 5).unwrap();
+    let rendered = render_indirect(&gpu, &scene, &mut two);
+    assert_lookup_matches(&gpu, "two scales", &[&two.near, &two.far], &rendered);
+    common::assert_no_validation_errors(&gpu);
+}

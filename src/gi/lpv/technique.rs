@@ -486,7 +486,7 @@ impl Lpv {
     }
 
     /// This lattice as the lookup reads it.
-    pub(super) fn lookup_field(&self) -> LookupField<'_> {
+    pub fn lookup_field(&self) -> LookupField<'_> {
         let cell = self.lattice.cell_size;
         LookupField {
             images: &self.lookup_images,
