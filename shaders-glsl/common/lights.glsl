@@ -76,6 +76,8 @@ uint shadow_view_index(Light light, vec3 p) {
 
 // Fraction of the light reaching `p` (normal `n`), from a 3x3 bilinear PCF of the shadow map
 // (a 4x4-texel tent). The lookup point is pushed along the normal by 1.5 shadow texels.
+// `shadow_map` must be bound with a clamp-to-edge sampler without depth comparison (the frame's
+// shadow sampler): its gathers return the stored depths, clamped at the map's edges.
 float shadow_visibility(sampler2DArray shadow_map, ShadowView view, uint layer, vec3 p, vec3 n,
                         float distance) {
     vec3 offset_p = p + n * (1.5 * view.params.x * distance);

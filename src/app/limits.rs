@@ -39,12 +39,14 @@ crate::push_constants! {
 /// Runs per probe; the fastest is used: a limit is the best the device does (on a shared CPU
 /// the median of five moved by up to 2x from one process to the next, with other load).
 const RUNS: u32 = 7;
-/// Bytes per buffer of the bandwidth probe, at the least (within the dispatch limit).
+/// Bytes per buffer of the bandwidth probe (less where the dispatch limit or the device's
+/// storage-buffer range is lower).
 const STREAM_BYTES: u64 = 64 << 20;
 /// Workgroups one dimension of a dispatch may have on every device (Vulkan's minimum of
 /// maxComputeWorkGroupCount).
 const MAX_GROUPS: u64 = 65_535;
-/// Probes grow until one run takes at least this long, so timer resolution does not matter.
+/// The arithmetic probe grows until one run takes at least this long, so timer resolution does
+/// not matter.
 const MIN_RUN_NS: f64 = 2e6;
 
 /// The shortest GPU time (ns) of `RUNS` runs of `record`.
@@ -75,35 +77,31 @@ pub fn measure(gpu: &Gpu) -> anyhow::Result<DeviceLimits> {
     let fma = ComputePipeline::new(gpu, "arithmetic probe", shaders::LIMITS_FMA_COMP, &none)?;
     let limit = u64::from(gpu.info.max_storage_buffer_range).min(1 << 28);
 
-    // Buffers of about 64 MiB (or the device's storage-buffer range), beyond a CPU's last-level
-    // cache: a size that straddles the cache measured anywhere from 5.7 to 8.9 GB/s here. One
-    // vec4 per invocation in a 1-D dispatch: at most 65535 workgroups, the least any device has.
-    let max_count = MAX_GROUPS * u64::from(ids::LINEAR_WORKGROUP);
-    let mut count: u64 = (STREAM_BYTES.min(limit) / 16).clamp(1, max_count);
-    let bandwidth = loop {
-        let bytes = count * 16;
-        let source = gpu.create_buffer(&BufferDesc::storage("probe source", bytes))?;
-        let destination = gpu.create_buffer(&BufferDesc::storage("probe destination", bytes))?;
-        let push = CopyPush {
-            count: count as u32,
-        };
-        let ns = fastest_ns(gpu, "bandwidth probe", &|rec| {
-            rec.compute(&ComputePass {
-                name: "bandwidth probe",
-                pipeline: &copy,
-                bindings: &[
-                    Binding::read(ids::LIMITS_SOURCE, &source),
-                    Binding::write(ids::LIMITS_DESTINATION, &destination),
-                ],
-                push: &push,
-                threads: [count as u32, 1, 1],
-            })
-        })?;
-        if ns >= MIN_RUN_NS || bytes * 4 > limit || count * 4 > max_count {
-            break 2.0 * bytes as f64 / ns;
-        }
-        count *= 4;
+    // One copy of buffers of about 64 MiB (or the device's storage-buffer range), beyond a CPU's
+    // last-level cache: a size that straddles the cache measured anywhere from 5.7 to 8.9 GB/s
+    // here. One vec4 per invocation in a 1-D dispatch: at most 65535 workgroups, the least any
+    // device has. (On a GPU the copy takes tens of µs, well above its timer's resolution.)
+    let count =
+        (STREAM_BYTES.min(limit) / 16).clamp(1, MAX_GROUPS * u64::from(ids::LINEAR_WORKGROUP));
+    let bytes = count * 16;
+    let source = gpu.create_buffer(&BufferDesc::storage("probe source", bytes))?;
+    let destination = gpu.create_buffer(&BufferDesc::storage("probe destination", bytes))?;
+    let push = CopyPush {
+        count: count as u32,
     };
+    let ns = fastest_ns(gpu, "bandwidth probe", &|rec| {
+        rec.compute(&ComputePass {
+            name: "bandwidth probe",
+            pipeline: &copy,
+            bindings: &[
+                Binding::read(ids::LIMITS_SOURCE, &source),
+                Binding::write(ids::LIMITS_DESTINATION, &destination),
+            ],
+            push: &push,
+            threads: [count as u32, 1, 1],
+        })
+    })?;
+    let bandwidth = 2.0 * bytes as f64 / ns;
 
     let count: u32 = 1 << 16;
     let destination =

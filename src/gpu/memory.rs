@@ -125,17 +125,8 @@ impl<'a> ImageDesc<'a> {
         usage: vk::ImageUsageFlags,
     ) -> Self {
         ImageDesc {
-            name,
-            format,
-            extent: vk::Extent3D {
-                width,
-                height,
-                depth: 1,
-            },
             kind: vk::ImageType::TYPE_2D,
-            layers: 1,
-            array: false,
-            usage,
+            ..Self::new_3d(name, format, [width, height, 1], usage)
         }
     }
 

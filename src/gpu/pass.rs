@@ -1031,19 +1031,7 @@ impl<'a> Recorder<'a> {
             (Resource::Image(image), Access::TransferRead),
             (Resource::Buffer(buffer), Access::TransferWrite),
         ]);
-        let region = vk::BufferImageCopy {
-            buffer_offset: 0,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: image.aspect,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: image.layers,
-            },
-            image_offset: vk::Offset3D { x: 0, y: 0, z: 0 },
-            image_extent: image.extent,
-        };
+        let region = whole_image_copy(image);
         // SAFETY: the image is in TRANSFER_SRC_OPTIMAL after `sync`; the buffer is large enough
         // for every layer (callers size it from the image).
         unsafe {
@@ -1066,19 +1054,7 @@ impl<'a> Recorder<'a> {
             (Resource::Buffer(buffer), Access::TransferRead),
             (Resource::Image(image), Access::TransferWrite),
         ]);
-        let region = vk::BufferImageCopy {
-            buffer_offset: 0,
-            buffer_row_length: 0,
-            buffer_image_height: 0,
-            image_subresource: vk::ImageSubresourceLayers {
-                aspect_mask: image.aspect,
-                mip_level: 0,
-                base_array_layer: 0,
-                layer_count: image.layers,
-            },
-            image_offset: vk::Offset3D { x: 0, y: 0, z: 0 },
-            image_extent: image.extent,
-        };
+        let region = whole_image_copy(image);
         // SAFETY: the image is in TRANSFER_DST_OPTIMAL after `sync`; callers size the buffer to
         // hold every texel of every layer.
         unsafe {
@@ -1096,6 +1072,23 @@ impl<'a> Recorder<'a> {
     /// Make a buffer's device writes visible to the host once the submission's fence signals.
     pub fn host_read(&mut self, buffer: &Buffer) {
         self.sync(&[(Resource::Buffer(buffer), Access::HostRead)]);
+    }
+}
+
+/// A copy of every layer of `image` from or to a tightly packed buffer.
+fn whole_image_copy(image: &Image) -> vk::BufferImageCopy {
+    vk::BufferImageCopy {
+        buffer_offset: 0,
+        buffer_row_length: 0,
+        buffer_image_height: 0,
+        image_subresource: vk::ImageSubresourceLayers {
+            aspect_mask: image.aspect,
+            mip_level: 0,
+            base_array_layer: 0,
+            layer_count: image.layers,
+        },
+        image_offset: vk::Offset3D { x: 0, y: 0, z: 0 },
+        image_extent: image.extent,
     }
 }
 

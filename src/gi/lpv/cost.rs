@@ -23,7 +23,10 @@
 //! the normal's normalisation 9 and the cosine lobe 3, then per lattice the offset point 7, the
 //! texture coordinate 9, the trilinear weights 22 (fractions, complements, eight corner
 //! products), the blend of 8 corners × 4 coefficients × 3 channels 192, the projections on the
-//! lobe 21, the clamp 3, albedo and scale 6 and the sum 3: 263.
+//! lobe 21, the clamp 3, albedo and scale 6 and the sum 3: 263. (The weights and the blend are
+//! the texture unit's work where one filters in hardware; the arithmetic is still what the
+//! result needs, and on lavapipe the CPU does it. The copy of each result lattice into the 3-D
+//! image the lookup samples, 32 B per cell and channel a frame, is its own pass in the profile.)
 
 use super::technique::Scheme;
 

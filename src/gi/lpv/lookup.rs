@@ -83,7 +83,7 @@ impl Lookup {
     ) -> GpuResult<()> {
         assert_eq!(fields.len(), self.fields, "the lookup was built for {} fields", self.fields);
         // A one-field lookup binds its lattice in the far slots too; the shader leaves them be.
-        let far = fields.last().unwrap_or(&fields[0]);
+        let far = &fields[fields.len() - 1];
         let near = &fields[0];
         let view = &ctx.views[view];
         let push = LookupPush {

@@ -524,6 +524,25 @@ impl Lpv {
             ))
             .into());
         }
+        let side = lattice.dims.max_element();
+        if side > gpu.info.max_image_dimension_3d {
+            return Err(InputError::new(format!(
+                "a {}x{}x{} lattice exceeds the device's 3-D image limit of {} cells a side (the lookup samples the lattice as a 3-D image)",
+                lattice.dims.x,
+                lattice.dims.y,
+                lattice.dims.z,
+                gpu.info.max_image_dimension_3d
+            ))
+            .into());
+        }
+        if !gpu.supports_format(
+            vk::Format::R32G32B32A32_SFLOAT,
+            vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR,
+        ) {
+            anyhow::bail!(
+                "the LPV lookup filters RGBA32F 3-D images linearly, which this device cannot (no SAMPLED_IMAGE_FILTER_LINEAR for R32G32B32A32_SFLOAT)"
+            );
+        }
         match settings.injection {
             Injection::Float if !gpu.info.shader_buffer_float32_atomic_add => anyhow::bail!(
                 "LPV injection with float atomics needs VK_EXT_shader_atomic_float, which this device lacks (--injection fixed does not)"
@@ -704,11 +723,25 @@ impl Lpv {
 
     /// The lattices the lookup reads: the accumulation, or ILPV's last propagated light.
     pub fn result_lattices(&self) -> [&Buffer; 3] {
+        [0, 1, 2].map(|c| self.looked_up(c, self.result))
+    }
+
+    /// Channel `channel`'s lattice the lookup reads when `result` holds the propagated light.
+    fn looked_up(&self, channel: usize, result: usize) -> &Buffer {
         if self.reads_final() {
-            [0, 1, 2].map(|c| &self.lattices[c][self.result])
+            &self.lattices[channel][result]
         } else {
-            [0, 1, 2].map(|c| &self.accumulation[c])
+            &self.accumulation[channel]
         }
+    }
+
+    /// Copy channel `channel`'s looked-up lattice into the 3-D image the lookup samples.
+    fn copy_to_lookup(&self, rec: &mut Recorder, channel: usize, result: usize) {
+        rec.copy_buffer_to_image(
+            "lattice to lookup image",
+            self.looked_up(channel, result),
+            &self.lookup_images[channel],
+        );
     }
 
     fn geometry_words(&self) -> u32 {
@@ -1052,7 +1085,11 @@ impl Lpv {
                 index: channel as u32,
                 label,
             };
-            result = rec.in_part(part, |rec| self.record_channel_steps(rec, channel, 0))?;
+            result = rec.in_part(part, |rec| {
+                let result = self.record_channel_steps(rec, channel, 0)?;
+                self.copy_to_lookup(rec, channel, result);
+                Ok(result)
+            })?;
         }
         self.result = result;
         Ok(())
@@ -1225,12 +1262,7 @@ impl GiMethod for Lpv {
 
     fn record_part(&mut self, rec: &mut Recorder, _ctx: &FrameContext, part: usize) -> GpuResult<()> {
         self.pending_result = self.merge_and_propagate(rec, part, self.current)?;
-        let source = if self.reads_final() {
-            &self.lattices[part][self.pending_result]
-        } else {
-            &self.accumulation[part]
-        };
-        rec.copy_buffer_to_image("lattice to lookup image", source, &self.lookup_images[part]);
+        self.copy_to_lookup(rec, part, self.pending_result);
         Ok(())
     }
 

@@ -12,7 +12,7 @@
 //!   field's reach and one far cell: the long-range light, which crosses the scene in few hops
 //!   before it diffuses.
 //!
-//! Both lookups add into the HDR image. The far field leaks through geometry thinner than its
+//! One lookup pass adds both fields into the HDR image (src/gi/lpv/lookup.rs). The far field leaks through geometry thinner than its
 //! cells (it is coarse on purpose); the sealed-box leak tests run on one lattice.
 
 use super::free_path::mean_free_path;

@@ -3,9 +3,8 @@
 
 crate::shared_constants! {
     // ---- reflective shadow maps (shaders-glsl/gi/shared/rsm.vert and rsm.frag; the vertex
-    // stage is the G-buffer's, bound with RASTER_VERTICES and RASTER_TRIANGLES, and reads
-    // RSM_MATERIALS) ----
-    RSM_MATERIALS: u32 = 2;
+    // stage is the G-buffer's, bound with RASTER_VERTICES, RASTER_TRIANGLES and
+    // RASTER_MATERIALS) ----
     RSM_LIGHTS: u32 = 3;
     RSM_VIEWS: u32 = 4;
     RSM_TEXTURES: u32 = 5;

@@ -11,7 +11,7 @@ use crate::gpu::{
 };
 use crate::render::targets::check_layered_image;
 use crate::scene::Scene;
-use crate::shader_shared::{RASTER_TRIANGLES, RASTER_VERTICES};
+use crate::shader_shared::{RASTER_MATERIALS, RASTER_TRIANGLES, RASTER_VERTICES};
 use crate::shaders;
 
 crate::push_constants! {
@@ -115,7 +115,7 @@ impl Rsm {
                     bindings: &[
                         Binding::read(RASTER_VERTICES, &s.vertices),
                         Binding::read(RASTER_TRIANGLES, &s.triangles),
-                        Binding::read(ids::RSM_MATERIALS, &s.materials),
+                        Binding::read(RASTER_MATERIALS, &s.materials),
                         Binding::read(ids::RSM_LIGHTS, &s.lights),
                         Binding::read(ids::RSM_VIEWS, &s.shadow_views),
                         Binding::read(ids::RSM_TEXTURES, &s.textures),
