@@ -17,6 +17,11 @@ layout(binding = LIGHTING_LIGHTS, std430) readonly buffer Lights { Light lights[
 layout(binding = LIGHTING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { ShadowView shadow_views[]; };
 layout(binding = LIGHTING_HDR_OUT, rgba32f) writeonly uniform image2D hdr_out;
 
+// What the scene's materials have (src/render/passes.rs): lavapipe runs both sides of every
+// branch, so a term no material has is left out when the pipeline is built, not per pixel.
+layout(constant_id = 0) const bool EMISSIVE = true;
+layout(constant_id = 1) const bool GLOSSY = true;
+
 layout(push_constant) uniform Push {
     vec4 camera_position;
     uvec2 size;
@@ -35,9 +40,9 @@ void main() {
     vec3 p = position.xyz;
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
     vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
-    vec3 radiance = imageLoad(gbuffer_emission, pixel).rgb;
-    vec4 specular = imageLoad(gbuffer_specular, pixel);
-    bool glossy = any(greaterThan(specular.rgb, vec3(0.0)));
+    vec3 radiance = EMISSIVE ? imageLoad(gbuffer_emission, pixel).rgb : vec3(0.0);
+    vec4 specular = GLOSSY ? imageLoad(gbuffer_specular, pixel) : vec4(0.0);
+    bool glossy = GLOSSY && any(greaterThan(specular.rgb, vec3(0.0)));
     vec3 to_eye = normalize(pc.camera_position.xyz - p);
     vec3 irradiance = vec3(0.0);
     vec3 reflected = vec3(0.0);

@@ -14,6 +14,7 @@ use crate::gi::registry::{self, MethodEntry, Setup};
 use crate::gi::settings::Settings;
 use crate::gpu::profiler::summarize;
 use crate::gpu::{Gpu, ProfileReport, Stage};
+use crate::render::passes::MaterialTerms;
 use crate::render::runner::run_frames;
 use crate::render::{Frame, FrameOptions, SubmitPlan, cost};
 use crate::scene::Scene;
@@ -256,7 +257,7 @@ pub fn run(
             }
         });
         let pixels = config.size.0 as usize * config.size.1 as usize;
-        let pixel_passes = cost::pixel_passes(lights)
+        let pixel_passes = cost::pixel_passes(lights, MaterialTerms::of(&scene))
             .into_iter()
             .map(|p| (None, p))
             .chain(

@@ -6,20 +6,24 @@
 //!   half floats) and depth (4 B) written, depth read by the test (4 B): 56 B per covered pixel,
 //!   each pixel drawn once (overdraw is the scene's, not the pass's). Arithmetic: the varyings'
 //!   interpolation 32, facing 8, the shading normal 20: 60.
-//! * **Direct lighting**: the G-buffer read (48 B) and the HDR pixel written (16 B): 64 B (a
-//!   shadow texel serves many neighbouring pixels: at the ideal each is read once a frame).
-//!   Arithmetic: the normal and the direction to the eye 21, the sum 9, and per light the
-//!   incidence 17, the cosine 5, the shadow view 3, the 3x3 bilinear PCF 114 (the offset point
-//!   5, the 4x4 projection 28, the divide 4, texel coordinates and fractions 12, weights 2, 16
-//!   comparisons and 16 weighted sums 64, the scale 1) and the accumulation 7: 146.
+//! * **Direct lighting**: the G-buffer's position, normal and albedo read (32 B), its emission
+//!   and glossy lobe where a material has them (8 B each), and the HDR pixel written (16 B): 48
+//!   to 64 B (a shadow texel serves many neighbouring pixels: at the ideal each is read once a
+//!   frame). Arithmetic: the normal and the direction to the eye 21, the sum 6 (9 with
+//!   emission), and per light the incidence 17, the cosine 5, the shadow view 3, the 3x3
+//!   bilinear PCF 114 (the offset point 5, the 4x4 projection 28, the divide 4, texel
+//!   coordinates and fractions 12, weights 2, 16 comparisons and 16 weighted sums 64, the scale
+//!   1) and the accumulation 7: 146, with a glossy lobe 40 more (two cosines 10, the half vector
+//!   12, D 6, the two G1 8, the product 4).
 //! * **Tone map**: the HDR pixel read (16 B) and the 8-bit pixel written (4 B): 20 B.
 //!   Arithmetic: exposure 3, Reinhard 6, the sRGB curve 15: 24.
 
-use super::passes::{DIRECT_LIGHTING, GBUFFER, TONE_MAP};
+use super::passes::{DIRECT_LIGHTING, GBUFFER, MaterialTerms, TONE_MAP};
 use crate::gi::PixelPass;
 
-/// The frame's per-pixel passes with `lights` rasterised lights.
-pub fn pixel_passes(lights: u32) -> Vec<PixelPass> {
+/// The frame's per-pixel passes with `lights` rasterised lights and materials with `terms`.
+pub fn pixel_passes(lights: u32, terms: MaterialTerms) -> Vec<PixelPass> {
+    let optional = |present: bool, value: f64| if present { value } else { 0.0 };
     vec![
         PixelPass {
             pass: GBUFFER,
@@ -28,8 +32,10 @@ pub fn pixel_passes(lights: u32) -> Vec<PixelPass> {
         },
         PixelPass {
             pass: DIRECT_LIGHTING,
-            bytes_per_pixel: 64.0,
-            flops_per_pixel: 30.0 + 146.0 * f64::from(lights),
+            bytes_per_pixel: 48.0 + optional(terms.emissive, 8.0) + optional(terms.glossy, 8.0),
+            flops_per_pixel: 27.0
+                + optional(terms.emissive, 3.0)
+                + (146.0 + optional(terms.glossy, 40.0)) * f64::from(lights),
         },
         PixelPass {
             pass: TONE_MAP,

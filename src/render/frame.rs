@@ -167,7 +167,7 @@ impl Frame {
             SubmitPlan::Async => true,
         };
         let mut frame = Frame {
-            passes: ScenePasses::new(gpu)?,
+            passes: ScenePasses::new(gpu, scene)?,
             scene: scene_buffers,
             shadow_map,
             shadow_sampler: gpu

@@ -2,6 +2,7 @@
 //! src/render/frame.rs calls them in order; GI methods add theirs between them.
 
 use ash::vk;
+use glam::Vec3;
 
 use super::targets::{GBUFFER_FORMATS, View};
 use crate::gpu::{
@@ -9,6 +10,7 @@ use crate::gpu::{
     RasterPipelineDesc, Recorder, Sampler, Specialization,
 };
 use crate::scene::gpu::SceneBuffers;
+use crate::scene::{Material, Scene};
 use crate::shader_shared as ids;
 use crate::shaders;
 
@@ -46,6 +48,27 @@ crate::push_constants! {
     }
 }
 
+/// Which terms of direct lighting a scene's materials have at all.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MaterialTerms {
+    /// Some material emits.
+    pub emissive: bool,
+    /// Some material has a glossy lobe.
+    pub glossy: bool,
+}
+
+impl MaterialTerms {
+    pub fn of(scene: &Scene) -> MaterialTerms {
+        let has = |term: fn(&Material) -> Vec3| {
+            scene.materials.iter().any(|m| term(m).max_element() > 0.0)
+        };
+        MaterialTerms {
+            emissive: has(|m| m.emission),
+            glossy: has(|m| m.specular),
+        }
+    }
+}
+
 /// The pipelines of the frame's own passes.
 pub struct ScenePasses {
     shadow: RasterPipeline,
@@ -55,8 +78,14 @@ pub struct ScenePasses {
 }
 
 impl ScenePasses {
-    pub fn new(gpu: &Gpu) -> GpuResult<ScenePasses> {
+    /// The frame's pipelines for `scene`: direct lighting leaves out emission or the glossy lobe
+    /// when no material has it (lavapipe would run that code for every pixel).
+    pub fn new(gpu: &Gpu, scene: &Scene) -> GpuResult<ScenePasses> {
         let none = Specialization::new();
+        let terms = MaterialTerms::of(scene);
+        let lighting = Specialization::new()
+            .with_u32(0, u32::from(terms.emissive))
+            .with_u32(1, u32::from(terms.glossy));
         Ok(ScenePasses {
             shadow: RasterPipeline::new(
                 gpu,
@@ -88,7 +117,7 @@ impl ScenePasses {
                 gpu,
                 DIRECT_LIGHTING,
                 shaders::RASTER_LIGHTING_COMP,
-                &none,
+                &lighting,
             )?,
             tonemap: ComputePipeline::new(gpu, TONE_MAP, shaders::RASTER_TONEMAP_COMP, &none)?,
         })
