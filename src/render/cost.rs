@@ -12,9 +12,9 @@
 //!   frame). Arithmetic: the normal and the direction to the eye 21, the sum 6 (9 with
 //!   emission), and per light the incidence 17, the cosine 5, the shadow view 3, the 3x3
 //!   bilinear PCF 114 (the offset point 5, the 4x4 projection 28, the divide 4, texel
-//!   coordinates and fractions 12, weights 2, 16 comparisons and 16 weighted sums 64, the scale
-//!   1) and the accumulation 7: 146, with a glossy lobe 40 more (two cosines 10, the half vector
-//!   12, D 6, the two G1 8, the product 4).
+//!   coordinates and fractions 12, weights 2, 16 comparisons and 16 weighted sums 64, the
+//!   scale 1) and the accumulation 7: 146, with a glossy lobe 40 more (two cosines 10, the half
+//!   vector 12, D 6, the two G1 8, the product 4).
 //! * **Tone map**: the HDR pixel read (16 B) and the 8-bit pixel written (4 B): 20 B.
 //!   Arithmetic: exposure 3, Reinhard 6, the sRGB curve 15: 24.
 
