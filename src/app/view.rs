@@ -33,6 +33,7 @@ use crate::scene::movable::Movable;
 use crate::view::cave::Cave;
 use crate::view::drag::Drag;
 use crate::view::fly::FlyCamera;
+use crate::view::keys;
 use crate::view::output::{Output, cave_tiles};
 use crate::view::overlay::Overlay;
 
@@ -537,21 +538,15 @@ impl Running {
 
     /// Apply held keys for `seconds`: fly the camera, move the chosen light or emitter.
     fn apply_held_keys(&mut self, seconds: f32) -> anyhow::Result<()> {
-        let axis = |plus: KeyCode, minus: KeyCode| {
-            f32::from(u8::from(self.held.contains(&plus)))
-                - f32::from(u8::from(self.held.contains(&minus)))
-        };
+        let held = |key: KeyCode| self.held.contains(&key);
+        let axis = |plus, minus| keys::axis(&held, plus, minus);
         let travel = Vec3::new(
             axis(KeyCode::KeyD, KeyCode::KeyA),
             axis(KeyCode::KeyE, KeyCode::KeyQ),
             axis(KeyCode::KeyW, KeyCode::KeyS),
         );
         self.fly.travel(travel, seconds);
-        let light = Vec3::new(
-            axis(KeyCode::ArrowRight, KeyCode::ArrowLeft),
-            axis(KeyCode::PageUp, KeyCode::PageDown),
-            axis(KeyCode::ArrowDown, KeyCode::ArrowUp),
-        );
+        let light = keys::light_motion(&held);
         let Some(which) = self.movables.get(self.moving) else {
             return Ok(());
         };

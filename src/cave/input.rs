@@ -8,6 +8,7 @@ use winit::keyboard::KeyCode;
 
 use super::Pose;
 use super::path::TrackedPath;
+use crate::view::keys;
 
 /// Head travel per frame a key is held, in half wall sizes.
 const HEAD_STEP: f32 = 0.02;
@@ -49,9 +50,8 @@ impl Input {
 
     /// The pose of frame `frame`, after `held` keys and a drag of `dragged` pixels.
     pub fn pose(&mut self, frame: u64, held: &[KeyCode], dragged: (f32, f32)) -> Pose {
-        let axis = |plus: KeyCode, minus: KeyCode| {
-            f32::from(u8::from(held.contains(&plus))) - f32::from(u8::from(held.contains(&minus)))
-        };
+        let pressed = |key: KeyCode| held.contains(&key);
+        let axis = |plus, minus| keys::axis(&pressed, plus, minus);
         let sample = match &self.path {
             Some(path) => path.at(frame),
             None => Pose {
@@ -69,11 +69,7 @@ impl Input {
         // The head stays inside the CAVE.
         let head = (sample.head + self.head_offset).clamp(Vec3::splat(-1.0), Vec3::ONE);
         self.head_offset = head - sample.head;
-        let moved = Vec3::new(
-            axis(KeyCode::ArrowRight, KeyCode::ArrowLeft),
-            axis(KeyCode::PageUp, KeyCode::PageDown),
-            axis(KeyCode::ArrowDown, KeyCode::ArrowUp),
-        );
+        let moved = keys::light_motion(&pressed);
         let light = sample.light.or(self.scene_light).and_then(|base| {
             self.light_offset += moved * self.light_step;
             // Untouched, a path without lights leaves the light where the scene put it.

@@ -5,5 +5,6 @@
 pub mod cave;
 pub mod drag;
 pub mod fly;
+pub mod keys;
 pub mod output;
 pub mod overlay;
