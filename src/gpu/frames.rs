@@ -174,13 +174,9 @@ impl FrameRing {
         };
         let family_pool = &mut pools[index];
         if family_pool.used == family_pool.buffers.len() {
-            let alloc = vk::CommandBufferAllocateInfo::default()
-                .command_pool(family_pool.pool)
-                .level(vk::CommandBufferLevel::PRIMARY)
-                .command_buffer_count(1);
-            // SAFETY: allocating from a pool of this slot, used only from this thread.
-            let cmd = unsafe { device.allocate_command_buffers(&alloc) }
-                .map_err(vk_err("allocating a frame command buffer"))?[0];
+            // SAFETY: a pool of this slot, used only from this thread.
+            let cmd =
+                unsafe { allocate_primary(device, family_pool.pool, "a frame command buffer") }?;
             family_pool.buffers.push(cmd);
         }
         let cmd = family_pool.buffers[family_pool.used];
@@ -302,6 +298,28 @@ impl Drop for FrameRing {
     }
 }
 
+/// One primary command buffer from `pool`; `what` names it in the error.
+///
+/// # Safety
+/// `pool` belongs to `device` and no other thread uses it during the call.
+unsafe fn allocate_primary(
+    device: &ash::Device,
+    pool: vk::CommandPool,
+    what: &str,
+) -> GpuResult<vk::CommandBuffer> {
+    let alloc = vk::CommandBufferAllocateInfo::default()
+        .command_pool(pool)
+        .level(vk::CommandBufferLevel::PRIMARY)
+        .command_buffer_count(1);
+    // SAFETY: the caller guarantees the pool is the device's and externally synchronised.
+    let buffers =
+        unsafe { device.allocate_command_buffers(&alloc) }.map_err(|result| GpuError::Vulkan {
+            what: format!("allocating {what}"),
+            result,
+        })?;
+    Ok(buffers[0])
+}
+
 fn submit(
     device: &ash::Device,
     queue: &Queue,
@@ -409,13 +427,10 @@ impl Gpu {
         let cmd = match one_shot.buffer {
             Some(cmd) => cmd,
             None => {
-                let alloc = vk::CommandBufferAllocateInfo::default()
-                    .command_pool(one_shot.pool)
-                    .level(vk::CommandBufferLevel::PRIMARY)
-                    .command_buffer_count(1);
                 // SAFETY: the pool is externally synchronised by the mutex held above.
-                let cmd = unsafe { device.allocate_command_buffers(&alloc) }
-                    .map_err(vk_err("allocating a one-shot command buffer"))?[0];
+                let cmd = unsafe {
+                    allocate_primary(device, one_shot.pool, "a one-shot command buffer")
+                }?;
                 one_shot.buffer = Some(cmd);
                 cmd
             }
