@@ -545,3 +545,59 @@ fn irradiance_cache_records_refine_as_the_camera_moves() {
         "moving placed records where the view newly needs them: {moved_count} after moving, {still_count} standing still"
     );
 }
+
+/// The radiance volumes' counts from their profile note ("radiance volumes: N caches held in
+/// the frame before the last, R refused (...), M corners missing, B pixels beyond ...").
+fn volume_counts(report: &serde_json::Value) -> (u64, u64, u64) {
+    let notes = report["notes"].as_array().expect("notes");
+    let line = notes
+        .iter()
+        .filter_map(|n| n.as_str())
+        .find(|n| n.contains("caches held"))
+        .expect("the volumes' count line");
+    let number_before = |word: &str| -> u64 {
+        let head = &line[..line.find(word).expect(word)];
+        let digits: String = head
+            .trim_end()
+            .chars()
+            .rev()
+            .take_while(char::is_ascii_digit)
+            .collect();
+        digits
+            .chars()
+            .rev()
+            .collect::<String>()
+            .parse()
+            .expect("a count")
+    };
+    (
+        number_before("caches held"),
+        number_before("corners missing"),
+        number_before("refused"),
+    )
+}
+
+#[test]
+fn radiance_volume_caches_are_reallocated_every_frame_as_the_camera_and_light_move() {
+    let extra = ["--size", "96x72", "--method", "radiance-volumes"];
+    let still = vec!["f5"; 24].join(",");
+    let moving = [vec!["w"; 10], vec!["right"; 4], vec!["a"; 4], vec!["f5"; 6]].concat();
+    let dir = scratch("rv-still");
+    let (still_caches, still_missing, still_refused) =
+        volume_counts(&view_with_keys(&dir, &extra, 24, &still));
+    let dir = scratch("rv-moving");
+    let (moved_caches, moved_missing, moved_refused) =
+        volume_counts(&view_with_keys(&dir, &extra, 24, &moving.join(",")));
+    println!("caches: {still_caches} standing, {moved_caches} after moving");
+    assert!(still_caches > 0, "the still view holds caches");
+    assert_eq!((still_missing, still_refused), (0, 0));
+    assert_eq!(
+        (moved_missing, moved_refused),
+        (0, 0),
+        "every corner the moved view needs was allocated in its own frame"
+    );
+    assert_ne!(
+        moved_caches, still_caches,
+        "the caches were reallocated for the moved view"
+    );
+}
