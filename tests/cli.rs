@@ -290,6 +290,33 @@ fn reference_writes_its_images_and_settings_and_reuses_them() {
         String::from_utf8_lossy(&second.stderr).contains("reusing"),
         "{second:?}"
     );
+    // The device and the CPU's cores trace the same estimator with the same random numbers.
+    let traced = |tracer: &str| {
+        let file = dir.join(format!("ref-{tracer}.exr"));
+        let mut on = args.to_vec();
+        on.truncate(on.len() - 5); // no --split, --out, --png
+        on.extend(["--tracer", tracer, "--out", file.to_str().unwrap()]);
+        let run = vkgi(&on);
+        assert!(run.status.success(), "{run:?}");
+        let sidecar: serde_json::Value = serde_json::from_slice(
+            &std::fs::read(dir.join(format!("ref-{tracer}.exr.json"))).unwrap(),
+        )
+        .unwrap();
+        let image = vkgi::imageio::read_hdr(&file, false).unwrap();
+        (sidecar["device"].as_str().unwrap().to_string(), image)
+    };
+    let ((on_gpu, gpu_image), (on_cpu, cpu_image)) = (traced("gpu"), traced("cpu"));
+    assert!(on_cpu.starts_with("the CPU ("), "{on_cpu}");
+    assert!(!on_gpu.starts_with("the CPU"), "{on_gpu}");
+    let sum = |i: &vkgi::imageio::HdrImage| {
+        i.pixels
+            .iter()
+            .flatten()
+            .map(|&v| f64::from(v))
+            .sum::<f64>()
+    };
+    let (g, c) = (sum(&gpu_image), sum(&cpu_image));
+    assert!((g - c).abs() <= 1e-3 * c, "device {g}, CPU {c}");
     // compare: an image against itself scores zero everywhere (and 100% similar).
     let same = vkgi(&["compare", out.to_str().unwrap(), out.to_str().unwrap()]);
     let stdout = String::from_utf8_lossy(&same.stdout);

@@ -250,7 +250,7 @@ fn gradients_match_finite_differences_of_brute_force_hemisphere_integrals() {
     let (mesh, radiance) = gradient_scene();
     let bvh = Bvh::build(&mesh);
     let trace = |origin: DVec3, dir: DVec3| {
-        bvh.intersect(&mesh, origin.as_vec3(), dir.as_vec3(), 1e-5, 1e30)
+        bvh.intersect(origin.as_vec3(), dir.as_vec3(), 1e-5, 1e30)
             .map(|hit| {
                 (
                     radiance[mesh.materials[hit.triangle] as usize],

@@ -368,6 +368,11 @@ pub struct ReferenceArgs {
     /// power heuristic), light (emitter sampling alone) or bsdf (BSDF hits alone).
     #[arg(long, value_enum, default_value_t = crate::reference::Strategy::Mis)]
     pub strategy: crate::reference::Strategy,
+
+    /// Where to trace: auto (the CPU's cores when the Vulkan device is a CPU, as lavapipe is; the
+    /// device otherwise), gpu or cpu. The same estimator and random numbers either way.
+    #[arg(long, value_enum, default_value_t = crate::reference::Tracer::Auto)]
+    pub tracer: crate::reference::Tracer,
     /// Seed of the random numbers (the image is deterministic for a seed).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
     pub seed: u32,

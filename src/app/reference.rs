@@ -7,7 +7,7 @@ use anyhow::Context;
 use crate::gpu::Gpu;
 use crate::imageio;
 use crate::reference::cache::{self, CacheRecord};
-use crate::reference::{PathTracer, ReferenceSettings};
+use crate::reference::{self, ReferenceSettings};
 use crate::scene::Scene;
 
 use super::cli::ReferenceArgs;
@@ -45,19 +45,19 @@ pub fn run(args: &ReferenceArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
-    let mut tracer = PathTracer::new(&gpu, &scene, settings.width, settings.height)?;
     let bar = super::progress::counting("reference", "spp");
     let start = Instant::now();
-    let images = tracer.render(&gpu, &settings, |done, total| {
-        super::progress::update(&bar, done, total)
-    })?;
+    let (images, traced_on) =
+        reference::trace(&gpu, &scene, &settings, args.tracer, |done, total| {
+            super::progress::update(&bar, done, total)
+        })?;
     let seconds = start.elapsed().as_secs_f64();
     super::render::check_validation(&gpu)?;
     let record = CacheRecord {
         key,
         split: args.split,
         seconds,
-        device: gpu.info.name.clone(),
+        device: traced_on.clone(),
     };
     cache::store(&args.out, &images, &record)?;
     if let Some(png) = &args.png {
@@ -84,7 +84,7 @@ pub fn run(args: &ReferenceArgs) -> anyhow::Result<()> {
         settings.width,
         settings.height,
         settings.spp,
-        gpu.info.name,
+        traced_on,
         args.out.display()
     );
     Ok(())

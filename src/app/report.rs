@@ -18,7 +18,7 @@ use crate::imageio::{self, HdrImage};
 use crate::metrics::plot::{Plot, Series, pareto_front, strip};
 use crate::metrics::{self, Metrics};
 use crate::reference::cache::{self, CacheRecord};
-use crate::reference::{Bounces, PathTracer, ReferenceImages, ReferenceSettings};
+use crate::reference::{self, Bounces, ReferenceImages, ReferenceSettings, Tracer};
 use crate::render::runner::run_frames;
 use crate::render::{Frame, FrameOptions};
 use crate::scene::Scene;
@@ -157,16 +157,17 @@ fn reference(
         };
         return Ok((images, info));
     }
-    let mut tracer = PathTracer::new(gpu, scene, settings.width, settings.height)?;
     let bar = super::progress::counting("reference", "spp");
     let start = Instant::now();
-    let images = tracer.render(gpu, &settings, |d, t| super::progress::update(&bar, d, t))?;
+    let (images, traced_on) = reference::trace(gpu, scene, &settings, Tracer::Auto, |d, t| {
+        super::progress::update(&bar, d, t)
+    })?;
     let seconds = start.elapsed().as_secs_f64();
     let record = CacheRecord {
         key,
         split: true,
         seconds,
-        device: gpu.info.name.clone(),
+        device: traced_on,
     };
     cache::store(&path, &images, &record)?;
     Ok((

@@ -3,12 +3,14 @@
 //! importance sampling), with the same random numbers; tests compare it with the GPU on small
 //! images.
 
-use glam::{Vec2, Vec3, Vec4};
+use std::sync::atomic::{AtomicU32, Ordering};
+
+use glam::{DVec3, Vec2, Vec3, Vec4};
 
 use super::rng::random_float;
 use super::{
-    Bounces, RUSSIAN_ROULETTE_START, ReferenceImages, ReferenceSettings, Strategy,
-    inverse_view_projection, ray_epsilon,
+    Bounces, RUSSIAN_ROULETTE_START, ReferenceImages, ReferenceSettings, SAMPLES_PER_BATCH,
+    Strategy, inverse_view_projection, ray_epsilon,
 };
 use crate::imageio::HdrImage;
 use crate::scene::brdf;
@@ -50,50 +52,111 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
     a2 / (a2 + b * b).max(1e-30)
 }
 
-/// Render with the CPU estimator (single-threaded; meant for small images).
-pub fn render(scene: &Scene, settings: &ReferenceSettings) -> ReferenceImages {
+/// Render with the CPU estimator on `threads` threads (rows shared out as threads ask for
+/// them), in batches of [`SAMPLES_PER_BATCH`] samples summed in f64 per pixel, as the GPU's host
+/// sums are. `progress(done, total)` follows the samples. The image does not depend on the
+/// thread count: each pixel's samples are its own, summed in one order.
+pub fn render(
+    scene: &Scene,
+    settings: &ReferenceSettings,
+    threads: usize,
+    mut progress: impl FnMut(u32, u32),
+) -> anyhow::Result<ReferenceImages> {
     let bvh = Bvh::build(&scene.mesh);
     let emitters = Emitters::of(scene);
     let (w, h) = (settings.width, settings.height);
     let inv = inverse_view_projection(scene, w, h);
     let eps = ray_epsilon(scene);
-    let mut direct = vec![[0.0f32; 3]; (w * h) as usize];
-    let mut indirect = vec![[0.0f32; 3]; (w * h) as usize];
-    for y in 0..h {
-        for x in 0..w {
-            let pixel_index = y * w + x;
-            let (d, i) = pixel(
-                scene,
-                (&bvh, &emitters),
-                settings,
-                inv,
-                eps,
-                x,
-                y,
-                pixel_index,
-            );
-            let n = settings.spp.max(1) as f32;
-            direct[pixel_index as usize] = (d / n).to_array();
-            indirect[pixel_index as usize] = (i / n).to_array();
-        }
+    let mut sums = vec![[DVec3::ZERO; 2]; (w * h) as usize];
+    let mut done = 0;
+    while done < settings.spp {
+        let samples = done..(done + SAMPLES_PER_BATCH).min(settings.spp);
+        let next_row = AtomicU32::new(0);
+        let (tx, rx) = std::sync::mpsc::channel::<(u32, Vec<[DVec3; 2]>)>();
+        std::thread::scope(|threads_scope| {
+            for _ in 0..threads.max(1) {
+                let tx = tx.clone();
+                let (bvh, emitters, next_row, samples) = (&bvh, &emitters, &next_row, &samples);
+                threads_scope.spawn(move || {
+                    loop {
+                        let y = next_row.fetch_add(1, Ordering::Relaxed);
+                        if y >= h {
+                            break;
+                        }
+                        let row = (0..w)
+                            .map(|x| {
+                                let at = Pixel {
+                                    x,
+                                    y,
+                                    index: y * w + x,
+                                };
+                                pixel(
+                                    scene,
+                                    (bvh, emitters),
+                                    settings,
+                                    (inv, eps),
+                                    at,
+                                    samples.clone(),
+                                )
+                            })
+                            .collect();
+                        if tx.send((y, row)).is_err() {
+                            break;
+                        }
+                    }
+                });
+            }
+            drop(tx);
+            for (y, row) in rx {
+                let first = (y * w) as usize;
+                for (sum, add) in sums[first..first + w as usize].iter_mut().zip(row) {
+                    sum[0] += add[0];
+                    sum[1] += add[1];
+                }
+            }
+        });
+        done = samples.end;
+        progress(done, settings.spp);
     }
-    ReferenceImages {
-        direct: HdrImage::new(w, h, direct),
-        indirect: HdrImage::new(w, h, indirect),
-    }
+    let n = f64::from(settings.spp.max(1));
+    let mean = |part: usize| -> anyhow::Result<HdrImage> {
+        let pixels: Vec<[f32; 3]> = sums
+            .iter()
+            .map(|s| (s[part] / n).as_vec3().to_array())
+            .collect();
+        anyhow::ensure!(
+            pixels.iter().flatten().all(|v| v.is_finite()),
+            "the path tracer produced non-finite radiance"
+        );
+        Ok(HdrImage::new(w, h, pixels))
+    };
+    Ok(ReferenceImages {
+        direct: mean(0)?,
+        indirect: mean(1)?,
+    })
 }
 
-#[allow(clippy::too_many_arguments)]
+/// A pixel of the image: its column, row and index in row-major order.
+#[derive(Clone, Copy)]
+struct Pixel {
+    x: u32,
+    y: u32,
+    index: u32,
+}
+
+/// The summed direct and indirect estimates of one pixel over `samples`.
 fn pixel(
     scene: &Scene,
     (bvh, emitters): (&Bvh, &Emitters),
     settings: &ReferenceSettings,
-    inv: glam::Mat4,
-    eps: f32,
-    x: u32,
-    y: u32,
-    pixel_index: u32,
-) -> (Vec3, Vec3) {
+    (inv, eps): (glam::Mat4, f32),
+    Pixel {
+        x,
+        y,
+        index: pixel_index,
+    }: Pixel,
+    samples: std::ops::Range<u32>,
+) -> [DVec3; 2] {
     let (w, h) = (settings.width as f32, settings.height as f32);
     let seed = settings.seed;
     let mesh = &scene.mesh;
@@ -101,9 +164,10 @@ fn pixel(
         .materials
         .iter()
         .any(|m| m.emission.max_element() > 0.0);
-    let mut direct = Vec3::ZERO;
-    let mut indirect = Vec3::ZERO;
-    for sample in 0..settings.spp {
+    let mut sums = [DVec3::ZERO; 2];
+    for sample in samples {
+        let mut direct = Vec3::ZERO;
+        let mut indirect = Vec3::ZERO;
         let rand = |dim: u32| random_float(seed, pixel_index, sample, dim);
         let jitter = Vec2::new(rand(0), rand(1));
         let ndc = (Vec2::new(x as f32, y as f32) + jitter) / Vec2::new(w, h) * 2.0 - 1.0;
@@ -117,7 +181,7 @@ fn pixel(
         let strategy = settings.strategy;
         let sampled = !emitters.triangles.is_empty();
         for depth in 0..crate::shader_shared::REFERENCE_MAX_DEPTH {
-            let Some(hit) = bvh.intersect(mesh, origin, dir, eps, 1e30) else {
+            let Some(hit) = bvh.intersect(origin, dir, eps, 1e30) else {
                 break;
             };
             let t = hit.triangle;
@@ -171,10 +235,7 @@ fn pixel(
                 // The shadow ray leaves the offset origin aimed at the light itself.
                 let offset = light.position - shade_origin;
                 let reach = offset.length();
-                if bvh
-                    .intersect(mesh, shade_origin, offset / reach, 0.0, reach - eps)
-                    .is_some()
-                {
+                if bvh.occluded(shade_origin, offset / reach, 0.0, reach - eps) {
                     continue;
                 }
                 let mut reflected =
@@ -210,9 +271,7 @@ fn pixel(
                 if cos_s > 0.0
                     && ng.dot(wi) > 0.0
                     && cos_e > 0.0
-                    && bvh
-                        .intersect(mesh, shade_origin, wi, 0.0, dist - eps)
-                        .is_none()
+                    && !bvh.occluded(shade_origin, wi, 0.0, dist - eps)
                 {
                     let light_pdf = emitters.area_pdf(em) * dist2 / cos_e;
                     let bsdf_pdf = if glossy > 0.0 {
@@ -296,6 +355,8 @@ fn pixel(
             origin = shade_origin;
             dir = next;
         }
+        sums[0] += direct.as_dvec3();
+        sums[1] += indirect.as_dvec3();
     }
-    (direct, indirect)
+    sums
 }

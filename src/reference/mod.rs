@@ -75,6 +75,51 @@ impl Bounces {
     }
 }
 
+/// Where the path tracer runs. Both run the same estimator with the same random numbers
+/// (tests/reference.rs holds them to each other).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Tracer {
+    /// The CPU on every core when the Vulkan device is itself a CPU (lavapipe), else the device
+    #[default]
+    Auto,
+    /// The compute shader on the Vulkan device
+    Gpu,
+    /// The CPU estimator (src/reference/cpu.rs) on every core
+    Cpu,
+}
+
+impl Tracer {
+    /// Whether this choice traces on the CPU when `gpu` is the Vulkan device.
+    pub fn on_cpu(self, gpu: &Gpu) -> bool {
+        match self {
+            Tracer::Auto => gpu.info.device_type == vk::PhysicalDeviceType::CPU,
+            Tracer::Gpu => false,
+            Tracer::Cpu => true,
+        }
+    }
+}
+
+/// Path-trace `scene` where `tracer` says; also returns where it ran, in words.
+pub fn trace(
+    gpu: &Gpu,
+    scene: &Scene,
+    settings: &ReferenceSettings,
+    tracer: Tracer,
+    progress: impl FnMut(u32, u32),
+) -> anyhow::Result<(ReferenceImages, String)> {
+    // The same limits on both paths, so a size is accepted or refused wherever it runs.
+    crate::render::check_image_size(gpu, settings.width, settings.height)?;
+    if tracer.on_cpu(gpu) {
+        let threads = std::thread::available_parallelism().map_or(1, usize::from);
+        let images = cpu::render(scene, settings, threads, progress)?;
+        Ok((images, format!("the CPU ({threads} threads)")))
+    } else {
+        let mut tracer = PathTracer::new(gpu, scene, settings.width, settings.height)?;
+        let images = tracer.render(gpu, settings, progress)?;
+        Ok((images, gpu.info.name.clone()))
+    }
+}
+
 /// Which strategies light surfaces from emissive triangles.
 #[derive(
     Clone,
@@ -212,10 +257,8 @@ impl PathTracer {
         let bvh = Bvh::build(&scene.mesh);
         let scene_buffers = SceneBuffers::upload(gpu, scene, &scene.lights, 16)?;
         let bvh_nodes = gpu.upload_storage("bvh nodes", bytemuck::cast_slice(&bvh.nodes))?;
-        let bvh_triangles = gpu.upload_storage(
-            "bvh triangles",
-            bytemuck::cast_slice(&bvh.gpu_triangles(&scene.mesh)),
-        )?;
+        let bvh_triangles =
+            gpu.upload_storage("bvh triangles", bytemuck::cast_slice(&bvh.gpu_triangles()))?;
         let bytes = u64::from(width) * u64::from(height) * 16;
         let sum = |name| gpu.create_buffer(&BufferDesc::storage(name, bytes));
         let readback = |name| {

@@ -9,7 +9,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::Mesh;
-use super::intersect::{Hit, intersect_triangle};
+use super::intersect::{Hit, intersect_edges};
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
@@ -53,6 +53,9 @@ pub struct Bvh {
     pub nodes: Vec<BvhNode>,
     /// Triangle indices (into the mesh) in leaf order.
     pub triangles: Vec<u32>,
+    /// Each of `triangles` as its first corner and the edges to the other two, as the mesh was
+    /// when the BVH was built: rays read these instead of the mesh's indices and positions.
+    edges: Vec<(Vec3, Vec3, Vec3)>,
 }
 
 const BINS: usize = 16;
@@ -118,39 +121,72 @@ impl Bvh {
         };
         builder.build(0, n);
         builder.link(0, BVH_END);
+        let nodes = builder.nodes;
+        let edges = order
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = mesh.triangle(t as usize);
+                (a, b - a, c - a)
+            })
+            .collect();
         Bvh {
-            nodes: builder.nodes,
+            nodes,
             triangles: order,
+            edges,
         }
     }
 
     /// The triangles in leaf order, laid out for the GPU.
-    pub fn gpu_triangles(&self, mesh: &Mesh) -> Vec<BvhTriangle> {
+    pub fn gpu_triangles(&self) -> Vec<BvhTriangle> {
         self.triangles
             .iter()
-            .map(|&t| {
-                let [a, b, c] = mesh.triangle(t as usize);
-                BvhTriangle {
-                    v0: a.to_array(),
-                    index: t,
-                    e1: (b - a).extend(0.0).to_array(),
-                    e2: (c - a).extend(0.0).to_array(),
-                }
+            .zip(&self.edges)
+            .map(|(&t, &(a, e1, e2))| BvhTriangle {
+                v0: a.to_array(),
+                index: t,
+                e1: e1.extend(0.0).to_array(),
+                e2: e2.extend(0.0).to_array(),
             })
             .collect()
     }
 
-    /// Closest hit along a ray, by following the miss links (as `trace_ray` in bvh.glsl).
-    pub fn intersect(
+    /// Closest hit along a ray in `(t_min, t_max)`, by following the miss links (as
+    /// `trace_ray` in bvh.glsl), against the mesh the BVH was built from.
+    pub fn intersect(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        self.traverse(origin, dir, t_min, t_max, |t, (dist, u, v)| {
+            best = Some(Hit {
+                t: dist,
+                triangle: t as usize,
+                uv: (u, v),
+            });
+            false
+        });
+        best
+    }
+
+    /// Whether anything lies along a ray in `(t_min, t_max)`: the same answer as
+    /// `intersect(..).is_some()`, stopping at the first hit found.
+    pub fn occluded(&self, origin: Vec3, dir: Vec3, t_min: f32, t_max: f32) -> bool {
+        let mut hit = false;
+        self.traverse(origin, dir, t_min, t_max, |_, _| {
+            hit = true;
+            true
+        });
+        hit
+    }
+
+    /// Visit the triangles a ray hits closer than every hit before, in traversal order:
+    /// `on_hit(triangle, (t, u, v))` returns whether to stop.
+    fn traverse(
         &self,
-        mesh: &Mesh,
         origin: Vec3,
         dir: Vec3,
         t_min: f32,
         t_max: f32,
-    ) -> Option<Hit> {
+        mut on_hit: impl FnMut(u32, (f32, f32, f32)) -> bool,
+    ) {
         let inv = Vec3::ONE / dir;
-        let mut best: Option<Hit> = None;
         let mut limit = t_max;
         let mut node = 0u32;
         while node != BVH_END {
@@ -162,16 +198,13 @@ impl Bvh {
             match n.leaf_range() {
                 Some(range) => {
                     for i in range {
-                        let t = self.triangles[i as usize] as usize;
-                        if let Some((dist, u, v)) =
-                            intersect_triangle(origin, dir, mesh.triangle(t), t_min, limit)
+                        let i = i as usize;
+                        if let Some(hit) = intersect_edges(origin, dir, self.edges[i], t_min, limit)
                         {
-                            limit = dist;
-                            best = Some(Hit {
-                                t: dist,
-                                triangle: t,
-                                uv: (u, v),
-                            });
+                            limit = hit.0;
+                            if on_hit(self.triangles[i], hit) {
+                                return;
+                            }
                         }
                     }
                     node = n.miss;
@@ -179,7 +212,6 @@ impl Bvh {
                 None => node += 1,
             }
         }
-        best
     }
 }
 
@@ -371,7 +403,7 @@ mod tests {
             let origin = Vec3::new(next(), next(), next()) * 14.0 - 2.0;
             let dir = (Vec3::new(next(), next(), next()) - 0.5).normalize();
             let brute = mesh.intersect(origin, dir, 1e-4, 1e9);
-            let fast = bvh.intersect(&mesh, origin, dir, 1e-4, 1e9);
+            let fast = bvh.intersect(origin, dir, 1e-4, 1e9);
             assert_eq!(brute.map(|h| h.triangle), fast.map(|h| h.triangle));
         }
     }

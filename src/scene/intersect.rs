@@ -21,8 +21,19 @@ pub fn intersect_triangle(
     t_min: f32,
     t_max: f32,
 ) -> Option<(f32, f32, f32)> {
-    let e1 = b - a;
-    let e2 = c - a;
+    intersect_edges(origin, dir, (a, b - a, c - a), t_min, t_max)
+}
+
+/// As [`intersect_triangle`] for a triangle given as its first corner and the edges to the
+/// other two (`(a, b - a, c - a)`, the same values, so the same result).
+#[inline]
+pub fn intersect_edges(
+    origin: Vec3,
+    dir: Vec3,
+    (a, e1, e2): (Vec3, Vec3, Vec3),
+    t_min: f32,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
     let p = dir.cross(e2);
     let det = e1.dot(p);
     if det.abs() < 1e-12 {

@@ -16,7 +16,7 @@ pub fn albedo_image(scene: &Scene, bvh: &Bvh, width: u32, height: u32) -> Vec<[f
         .map(|(x, y)| {
             let pixel = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
             let dir = scene.camera.ray_direction(pixel, width, height);
-            bvh.intersect(&scene.mesh, scene.camera.position, dir, epsilon, f32::INFINITY)
+            bvh.intersect(scene.camera.position, dir, epsilon, f32::INFINITY)
                 .map_or([0.0; 3], |hit| scene.albedo(hit.triangle, hit.uv).to_array())
         })
         .collect()

@@ -180,7 +180,7 @@ pub fn visible_surface(
     t_min: f64,
 ) -> Option<VisibleSurface> {
     let mesh = &scene.mesh;
-    let hit = bvh.intersect(mesh, origin.as_vec3(), dir.as_vec3(), t_min as f32, 1e30)?;
+    let hit = bvh.intersect(origin.as_vec3(), dir.as_vec3(), t_min as f32, 1e30)?;
     let face = mesh.face_normal(hit.triangle).as_dvec3();
     let facing = if face.dot(dir) <= 0.0 { 1.0 } else { -1.0 };
     let face = face * facing;

@@ -129,7 +129,7 @@ fn pixel_terms(
 ) -> Option<PixelTerms> {
     let pixel = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
     let dir = scene.camera.ray_direction(pixel, truth.width, truth.height);
-    let hit = bvh.intersect(&scene.mesh, scene.camera.position, dir, epsilon, f32::INFINITY)?;
+    let hit = bvh.intersect(scene.camera.position, dir, epsilon, f32::INFINITY)?;
     let point = scene.camera.position + dir * hit.t;
     let mut normal = scene.mesh.shading_normal(hit.triangle, hit.uv);
     if normal.dot(dir) > 0.0 {
@@ -146,7 +146,7 @@ fn pixel_terms(
         } else {
             let lit = shadow_set
                 .iter()
-                .filter(|&&j| sees(bvh, scene, point + normal * epsilon, vpls[j as usize].position.as_vec3(), epsilon))
+                .filter(|&&j| sees(bvh, point + normal * epsilon, vpls[j as usize].position.as_vec3(), epsilon))
                 .count();
             lit as f64 / shadow_set.len() as f64
         };
@@ -159,13 +159,10 @@ fn pixel_terms(
 }
 
 /// Whether `to` is unoccluded from `from`.
-fn sees(bvh: &Bvh, scene: &Scene, from: Vec3, to: Vec3, epsilon: f32) -> bool {
+fn sees(bvh: &Bvh, from: Vec3, to: Vec3, epsilon: f32) -> bool {
     let d = to - from;
     let length = d.length();
-    length <= epsilon
-        || bvh
-            .intersect(&scene.mesh, from, d / length, epsilon, length - epsilon)
-            .is_none()
+    length <= epsilon || !bvh.occluded(from, d / length, epsilon, length - epsilon)
 }
 
 #[cfg(test)]

@@ -55,7 +55,7 @@ pub fn mean_free_path(mesh: &Mesh) -> Option<f64> {
         }
         let direction = sample_cosine_hemisphere(normal, u(4), u(5));
         let origin = point + normal * nudge;
-        if let Some(hit) = bvh.intersect(mesh, origin, direction, 0.0, f32::INFINITY) {
+        if let Some(hit) = bvh.intersect(origin, direction, 0.0, f32::INFINITY) {
             sum += f64::from(hit.t);
             hits += 1;
         }

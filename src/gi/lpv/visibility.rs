@@ -83,7 +83,7 @@ pub fn build_region(mesh: &Mesh, lattice: &Lattice, region: &CellBox) -> Vec<DVe
             }
             let to = o.as_vec3() * d;
             let length = to.length();
-            if bvh.intersect(mesh, from, to / length, 0.0, length).is_some() {
+            if bvh.occluded(from, to / length, 0.0, length) {
                 words[base + k / 4][k % 4] = 1.0;
             }
         }

@@ -57,9 +57,7 @@ pub fn solve(scene: &Scene, elements: &Elements, tolerance: f64, max_sweeps: u32
         let d = to - from;
         let length = d.length();
         length <= 0.0
-            || bvh
-                .intersect(&scene.mesh, from, d / length, 0.0, length)
-                .is_none()
+            || !bvh.occluded(from, d / length, 0.0, length)
     };
     // Row i: (j, F from i to j's disc).
     let rows: Vec<Vec<(usize, f64)>> = valid
@@ -97,9 +95,7 @@ pub fn solve(scene: &Scene, elements: &Elements, tolerance: f64, max_sweeps: u32
                 let d = to - x.as_vec3();
                 let length = d.length();
                 length > 0.0
-                    && bvh
-                        .intersect(&scene.mesh, x.as_vec3(), d / length, 0.0, length)
-                        .is_none()
+                    && !bvh.occluded(x.as_vec3(), d / length, 0.0, length)
             })
             .map(|light| {
                 light

@@ -423,7 +423,7 @@ fn reachable_sides(
                     let dir = to_light.normalize_or_zero();
                     normal.dot(dir) > 0.0
                         && (matches!(light.kind, LightKind::Point) || light.profile(-dir) > 0.0)
-                        && bvh_visible(bvh, scene, x + normal * contact, light.position)
+                        && bvh_visible(bvh, x + normal * contact, light.position)
                 })
             });
             if emits || lit {
@@ -432,7 +432,7 @@ fn reachable_sides(
             for (i, &x) in points.iter().enumerate() {
                 for r in 0..REACH_RAYS {
                     let dir = hemisphere_ray((patch.axis_t, patch.axis_b), normal, i, r, REACH_RAYS);
-                    let Some(hit) = bvh.intersect(mesh, x + normal * contact, dir, 0.0, f32::MAX)
+                    let Some(hit) = bvh.intersect(x + normal * contact, dir, 0.0, f32::MAX)
                     else {
                         continue;
                     };
@@ -460,7 +460,7 @@ fn reachable_sides(
             if !matches!(light.kind, LightKind::Point) && light.profile(dir) <= 0.0 {
                 continue;
             }
-            if let Some(hit) = bvh.intersect(mesh, light.position, dir, 0.0, f32::MAX) {
+            if let Some(hit) = bvh.intersect(light.position, dir, 0.0, f32::MAX) {
                 let facing_back = mesh.face_normal(hit.triangle).dot(dir) > 0.0;
                 seeds.push(side_index(triangle_patch[hit.triangle] as usize, facing_back));
             }
@@ -480,10 +480,10 @@ fn reachable_sides(
         .collect()
 }
 
-fn bvh_visible(bvh: &Bvh, scene: &Scene, from: Vec3, to: Vec3) -> bool {
+fn bvh_visible(bvh: &Bvh, from: Vec3, to: Vec3) -> bool {
     let d = to - from;
     let length = d.length();
-    length <= 0.0 || bvh.intersect(&scene.mesh, from, d / length, 0.0, length).is_none()
+    length <= 0.0 || !bvh.occluded(from, d / length, 0.0, length)
 }
 
 /// Points spread over the polygon: its triangles' centroids and points toward their corners.
@@ -529,7 +529,7 @@ fn buried(scene: &Scene, bvh: &Bvh, x: Vec3, normal: Vec3, contact: f32) -> bool
     let axes = normal.any_orthonormal_pair();
     (0..BURIED_RAYS).all(|r| {
         let dir = hemisphere_ray(axes, normal, 0, r, BURIED_RAYS);
-        bvh.intersect(&scene.mesh, x + normal * contact, dir, 0.0, f32::MAX)
+        bvh.intersect(x + normal * contact, dir, 0.0, f32::MAX)
             .is_some_and(|hit| scene.mesh.face_normal(hit.triangle).dot(dir) > 0.0)
     })
 }
