@@ -1,5 +1,5 @@
-//! Every method with a size axis (LPV and ILPV: the lattice) per size, tiled against naive and
-//! one submission against one per part (colour channel) on its queue, timed by vkgi's own GPU
+//! Every method with a size axis (LPV and ILPV: the lattice) per size, the tiled, naive and
+//! column kernels, and one submission against one per part (colour channel) on its queue, timed by vkgi's own GPU
 //! profiler through the same code as `vkgi profile` (so both print the same numbers).
 //!
 //! cargo bench --bench propagation [-- SIZES FRAMES] [--save-baseline], e.g. `-- 8,16,32,64 10`
@@ -27,23 +27,22 @@ fn main() -> anyhow::Result<()> {
         .filter(|m| m.profile_axis.is_some())
         .collect();
     let variants = [
-        ("tiled, sequential parts", false, SubmitPlan::Sequential),
-        ("naive, sequential parts", true, SubmitPlan::Sequential),
-        ("tiled, one queue per part", false, SubmitPlan::Async),
+        ("tiled, sequential parts", "tiled", SubmitPlan::Sequential),
+        ("naive, sequential parts", "naive", SubmitPlan::Sequential),
+        ("column, sequential parts", "column", SubmitPlan::Sequential),
+        ("tiled, one queue per part", "tiled", SubmitPlan::Async),
     ];
     let mut summary = Vec::new();
-    for (name, naive, plan) in variants {
+    for (name, kernel, plan) in variants {
         for method in &methods {
             let Some(axis) = method.profile_axis else {
                 continue;
             };
-            let mut grid = vec![
+            let grid = vec![
                 (axis.to_string(), sizes.clone()),
                 ("iterations".to_string(), vec!["8".to_string()]),
+                ("kernel".to_string(), vec![kernel.to_string()]),
             ];
-            if naive {
-                grid.push(("naive".to_string(), vec!["on".to_string()]));
-            }
             let config = ProfileConfig {
                 scene: "cornell".into(),
                 methods: vec![method.name.to_string()],

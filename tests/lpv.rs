@@ -10,7 +10,7 @@ use vkgi::gi::lpv::projected;
 use vkgi::gi::lpv::technique::{FarLattice, IlpvLookup};
 use vkgi::gi::lpv::transfer::FaceScheme;
 use vkgi::gi::lpv::two_scale;
-use vkgi::gi::lpv::{Lpv, LpvSettings, Scheme};
+use vkgi::gi::lpv::{Kernel, Lpv, LpvSettings, Scheme};
 use vkgi::gi::registry::Setup;
 use vkgi::gi::shared::sh;
 use vkgi::scene::Scene;
@@ -151,8 +151,10 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     let scene = Scene::load("cornell").unwrap();
     let steps = 8;
     let mut worst = 0.0f64;
+    // Every kernel does the same arithmetic in the same order: the same bits, whichever runs.
+    let mut first_kernel_results = std::collections::HashMap::new();
     for scheme in [Scheme::Ilpv, Scheme::Lpv] {
-        for tiled in [true, false] {
+        for kernel in [Kernel::Tiled, Kernel::Naive, Kernel::Column] {
             for (blocking, blocking_lobe) in [
                 (false, BlockingLobe::Oriented),
                 (true, BlockingLobe::Oriented),
@@ -167,7 +169,7 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
                         scheme,
                         lattice: 9,
                         iterations: steps as u32,
-                        tiled,
+                        kernel: Some(kernel),
                         ilpv_lookup: lookup,
                         blocking_lobe,
                         scattering: if scheme == Scheme::Ilpv { 0.3 } else { 0.0 },
@@ -188,6 +190,15 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
                     lpv.load_geometry(&gpu, &geometry).unwrap();
                     gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
                     let result = lpv.read_result(&gpu).unwrap();
+                    let case = format!("{scheme:?} {blocking} {blocking_lobe:?} {lookup:?}");
+                    match first_kernel_results.get(&case) {
+                        None => {
+                            first_kernel_results.insert(case, result.clone());
+                        }
+                        Some(tiled) => {
+                            assert!(*tiled == result, "{case}: {kernel:?} differs from tiled")
+                        }
+                    }
                     for c in 0..3 {
                         let (last, acc) = cpu_propagate(&lpv, &starts[c], &geometry, steps);
                         let expected = if scheme == Scheme::Ilpv && lookup == IlpvLookup::Final {
@@ -199,7 +210,7 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
                         worst = worst.max(error);
                         assert!(
                             error < 1e-4,
-                            "{scheme:?} tiled={tiled} blocking={blocking} {blocking_lobe:?} {lookup:?} channel {c}: relative error {error:e}"
+                            "{scheme:?} {kernel:?} blocking={blocking} {blocking_lobe:?} {lookup:?} channel {c}: relative error {error:e}"
                         );
                     }
                 }
@@ -1812,4 +1823,62 @@ fn the_lookup_matches_an_f64_lookup_of_the_same_lattices_with_one_and_two_scales
     let rendered = render_indirect(&gpu, &scene, &mut two);
     assert_lookup_matches(&gpu, "two scales", &[&two.near, &two.far], &rendered);
     common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
+fn kernel_auto_measures_once_per_device_then_reads_its_cache() {
+    let dir = std::env::temp_dir().join(format!("vkgi-lpv-autotune-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let profile = || {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_vkgi"))
+            .args([
+                "profile",
+                "--method",
+                "lpv",
+                "--lattice",
+                "8",
+                "--frames",
+                "1",
+            ])
+            .env("VKGI_CACHE_DIR", &dir)
+            .env("VKGI_VALIDATE", "1")
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        let line = stdout
+            .lines()
+            .find(|l| l.contains("chosen by --kernel auto"))
+            .unwrap_or_else(|| panic!("no autotune line in {stdout}"))
+            .to_string();
+        let kernel = stdout
+            .lines()
+            .find(|l| l.contains("propagation kernel:"))
+            .unwrap()
+            .to_string();
+        (line, kernel)
+    };
+    let (first, first_kernel) = profile();
+    assert!(first.contains("measured now"), "{first}");
+    let cache = dir.join("kernels.json");
+    let entries: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cache).unwrap()).unwrap();
+    let entry = entries.as_object().unwrap().values().next().unwrap();
+    let chosen = entry["kernel"].as_str().unwrap();
+    assert!(
+        first_kernel.contains(&format!("propagation kernel: {chosen}")),
+        "{first_kernel} against the cache's {chosen}"
+    );
+    let (second, second_kernel) = profile();
+    assert!(second.contains("cached in"), "{second}");
+    assert_eq!(first_kernel, second_kernel);
+    // A cache that is not JSON is measured around and rewritten, not an error.
+    std::fs::write(&cache, "not json").unwrap();
+    let (third, _) = profile();
+    assert!(third.contains("measured now"), "{third}");
+    assert!(
+        serde_json::from_str::<serde_json::Value>(&std::fs::read_to_string(&cache).unwrap())
+            .is_ok()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

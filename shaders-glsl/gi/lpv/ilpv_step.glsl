@@ -3,7 +3,8 @@
 // the source cell's geometry (blocking.glsl), negative transfers clamped to zero (the
 // transported light alone: the in-scattered light adds to it, see cpu.rs). src/gi/lpv/cpu.rs step_26
 // is the same in f64. With `accumulate`, the result is also summed into the accumulation
-// lattice the lookup reads. Included by lpv/ilpv_tiled.comp and lpv/ilpv_naive.comp.
+// lattice the lookup reads. Included by lpv/ilpv_tiled.comp, lpv/ilpv_naive.comp and
+// lpv/ilpv_column.comp.
 
 #extension GL_EXT_control_flow_attributes : require
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -36,10 +37,8 @@ ivec3 neighbour_offset(int d) {
     return ivec3(i % 3, (i / 3) % 3, i / 9) - 1;
 }
 
-void main() {
-    prepare_sources();
-    ivec3 cell = ivec3(gl_GlobalInvocationID);
-    if (!lattice_inside(cell, pc.dims.xyz)) return;
+// The gathered light of `cell` from its 26 neighbours.
+vec4 gather(ivec3 cell) {
     GeometryWords own_geometry = source_geometry(cell, ivec3(0));
     vec4 dst = vec4(0.0);
     // Unrolled: every neighbour offset (the same x-fastest order as transfer.rs) is a constant.
@@ -53,7 +52,33 @@ void main() {
         float factor = (max(pc.keep * dot(src, n.transfer), 0.0) + outscattered * n.outscatter) * blocking;
         dst += n.transfer * factor;
     }
+    return dst;
+}
+
+void store(ivec3 cell, vec4 dst) {
     uint i = lattice_index(cell, pc.dims.xyz);
     destination_cells[i] = dst;
     if (pc.accumulate != 0u) accumulation_cells[i] += dst;
+}
+
+void main() {
+#if LPV_COLUMN
+    ivec3 first = ivec3(gl_GlobalInvocationID.xy, gl_GlobalInvocationID.z * COLUMN);
+    if (!lattice_inside(first, pc.dims.xyz)) return;
+    load_plane(first, -1);
+    load_plane(first, 0);
+    // Every thread of a workgroup shares its z range, so the loop ends for all at once.
+    for (uint k = 0u; k < COLUMN; ++k) {
+        ivec3 cell = first + ivec3(0, 0, k);
+        if (cell.z >= pc.dims.z) break;
+        load_plane(cell, 1);
+        store(cell, gather(cell));
+        advance_column();
+    }
+#else
+    prepare_sources();
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (!lattice_inside(cell, pc.dims.xyz)) return;
+    store(cell, gather(cell));
+#endif
 }

@@ -7,7 +7,7 @@
 // source's, like ILPV: light crosses a wall in the cell that holds it, a one-way wall blocks
 // light leaving through it and not light on its way to it; visibility the segment between the
 // two centres. src/gi/lpv/cpu.rs step_6 is the same in f64.
-// Included by lpv/lpv_tiled.comp and lpv/lpv_naive.comp.
+// Included by lpv/lpv_tiled.comp, lpv/lpv_naive.comp and lpv/lpv_column.comp.
 
 #extension GL_EXT_control_flow_attributes : require
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -36,14 +36,19 @@ layout(push_constant) uniform Push {
 
 #include "gi/lpv/tile.glsl"
 
-void main() {
-    prepare_sources();
-    ivec3 cell = ivec3(gl_GlobalInvocationID);
-    if (!lattice_inside(cell, pc.dims.xyz)) return;
+// The a-th axis, from source to this cell: +x, -x, +y, -y, +z, -z (transfer.rs FaceScheme;
+// axes[a].offset holds the same), a constant once the loop is unrolled.
+ivec3 axis_offset(int a) {
+    ivec3 unit = ivec3(a / 2 == 0 ? 1 : 0, a / 2 == 1 ? 1 : 0, a / 2 == 2 ? 1 : 0);
+    return a % 2 == 0 ? unit : -unit;
+}
+
+// The light `cell` gathers through its faces from its 6 face neighbours.
+vec4 gather(ivec3 cell) {
     GeometryWords own_geometry = source_geometry(cell, ivec3(0));
     vec4 dst = vec4(0.0);
     [[unroll]] for (int a = 0; a < 6; ++a) {
-        ivec3 offset = axes[a].offset.xyz;
+        ivec3 offset = axis_offset(a);
         vec4 src = source_light(cell, -offset);
         GeometryWords source = source_geometry(cell, -offset);
         GeometryWords blocker = source;
@@ -55,7 +60,33 @@ void main() {
             dst += axes[a].faces[f].lobe * flux;
         }
     }
+    return dst;
+}
+
+void store(ivec3 cell, vec4 dst) {
     uint i = lattice_index(cell, pc.dims.xyz);
     destination_cells[i] = dst;
     accumulation_cells[i] += dst;
+}
+
+void main() {
+#if LPV_COLUMN
+    ivec3 first = ivec3(gl_GlobalInvocationID.xy, gl_GlobalInvocationID.z * COLUMN);
+    if (!lattice_inside(first, pc.dims.xyz)) return;
+    load_plane(first, -1);
+    load_plane(first, 0);
+    // Every thread of a workgroup shares its z range, so the loop ends for all at once.
+    for (uint k = 0u; k < COLUMN; ++k) {
+        ivec3 cell = first + ivec3(0, 0, k);
+        if (cell.z >= pc.dims.z) break;
+        load_plane(cell, 1);
+        store(cell, gather(cell));
+        advance_column();
+    }
+#else
+    prepare_sources();
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (!lattice_inside(cell, pc.dims.xyz)) return;
+    store(cell, gather(cell));
+#endif
 }

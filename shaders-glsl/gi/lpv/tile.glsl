@@ -58,6 +58,49 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = tile_geometry[t + w];
     return g;
 }
+#elif LPV_COLUMN
+// Column: each thread steps along z through COLUMN cells of one (x, y), keeping the 3x3x3 block
+// of source cells around its cell in registers (slots indexed by constant offsets once the
+// neighbour loop is unrolled): a step loads only the 9 cells of the plane ahead.
+layout(constant_id = 5) const uint COLUMN = 8u;
+vec4 column_light[27];
+GeometryWords column_geometry[27];
+
+uint column_slot(ivec3 offset) {
+    return uint((offset.z + 1) * 9 + (offset.y + 1) * 3 + offset.x + 1);
+}
+
+// The plane z = cell.z + dz of the block around `cell` into its slots (zero outside).
+void load_plane(ivec3 cell, int dz) {
+    [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
+        [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
+            ivec3 c = cell + ivec3(dx, dy, dz);
+            bool inside = lattice_inside(c, pc.dims.xyz);
+            uint k = inside ? lattice_index(c, pc.dims.xyz) : 0u;
+            uint slot = column_slot(ivec3(dx, dy, dz));
+            column_light[slot] = inside ? source_cells[k] : vec4(0.0);
+            GeometryWords g = no_geometry();
+            for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
+            column_geometry[slot] = g;
+        }
+    }
+}
+
+// Move the block one cell along +z: the planes at dz = 0 and 1 become those at -1 and 0.
+void advance_column() {
+    [[unroll]] for (int slot = 0; slot < 18; ++slot) {
+        column_light[slot] = column_light[slot + 9];
+        column_geometry[slot] = column_geometry[slot + 9];
+    }
+}
+
+vec4 source_light(ivec3 cell, ivec3 offset) {
+    return column_light[column_slot(offset)];
+}
+
+GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
+    return column_geometry[column_slot(offset)];
+}
 #else
 void prepare_sources() {}
 

@@ -3,7 +3,8 @@
 
 use super::geometry::BlockingLobe;
 use super::technique::{
-    self as t, Extinction, FarLattice, IlpvLookup, InjectToward, Injection, Lpv, LpvSettings, Scheme,
+    self as t, Extinction, FarLattice, IlpvLookup, InjectToward, Injection, Kernel, Lpv, LpvSettings,
+    Scheme,
 };
 use crate::error::InputError;
 use crate::gi::GiMethod;
@@ -85,11 +86,11 @@ const BLOCK_FIRST_STEP: Setting = Setting::new(
     "",
     "Apply blocking in the first step of a frame too (the thesis leaves it out)",
 );
-const NAIVE: Setting = Setting::new(
-    "naive",
-    Kind::Flag,
-    "",
-    "Use the naive global-memory propagation kernel instead of the shared-memory tiled one",
+const KERNEL: Setting = Setting::new(
+    "kernel",
+    Kind::Choice(&["auto", "tiled", "naive", "column"]),
+    "auto",
+    "The propagation kernel: auto (the faster of tiled and column on this device, measured once and cached), tiled (a shared-memory tile per workgroup, for GPUs), naive (global memory) or column (a column of cells along z per thread, its sources in registers, for CPU devices); all give the same bits",
 );
 const NO_CLAMP_COMPENSATION: Setting = Setting::new(
     "no-clamp-compensation",
@@ -164,7 +165,7 @@ const ILPV_SETTINGS: &[Setting] = &[
     BLOCKING_LOBE,
     BLOCKING_STRENGTH,
     BLOCK_FIRST_STEP,
-    NAIVE,
+    KERNEL,
     NO_CLAMP_COMPENSATION,
     INJECT_OFFSET,
     INJECT_TOWARD,
@@ -182,7 +183,7 @@ const LPV_SETTINGS: &[Setting] = &[
     BLOCKING_LOBE,
     BLOCKING_STRENGTH,
     BLOCK_FIRST_STEP,
-    NAIVE,
+    KERNEL,
     INJECT_OFFSET,
     INJECT_TOWARD,
     INJECTION,
@@ -281,7 +282,12 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         blocking_lobe,
         blocking_strength: float_or("blocking-strength", defaults.blocking_strength)?,
         first_step_unblocked: !flag("block-first-step")?,
-        tiled: !flag("naive")?,
+        kernel: match s.has("kernel").then(|| s.text("kernel")).transpose()? {
+            Some("tiled") => Some(Kernel::Tiled),
+            Some("naive") => Some(Kernel::Naive),
+            Some("column") => Some(Kernel::Column),
+            _ => None,
+        },
         clamp_compensation: !flag("no-clamp-compensation")?,
         ilpv_lookup,
         inject_offset: float_or("inject-offset", defaults.inject_offset)?,

@@ -2,6 +2,7 @@
 //! seed 000's incremental 26-neighbour ILPV, sharing RSM injection, the fitted lattice, the
 //! geometry lattice and the lookup.
 
+pub mod autotune;
 pub mod bindings;
 pub mod cost;
 pub mod cpu;
@@ -18,4 +19,4 @@ pub mod visibility;
 pub mod void_side;
 
 pub use entry::METHODS;
-pub use technique::{Extinction, InjectToward, Injection, Lpv, LpvSettings, Scheme};
+pub use technique::{Extinction, InjectToward, Injection, Kernel, Lpv, LpvSettings, Scheme};

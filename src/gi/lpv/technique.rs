@@ -6,6 +6,7 @@
 use ash::vk;
 use glam::DVec4;
 
+use super::autotune;
 use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
@@ -118,8 +119,9 @@ pub struct LpvSettings {
     pub blocking_strength: f32,
     /// Apply no blocking in the first step of a frame (the thesis).
     pub first_step_unblocked: bool,
-    /// Shared-memory tiled propagation (else the naive global-memory kernel).
-    pub tiled: bool,
+    /// The propagation kernel; None: the faster on this device, measured once
+    /// (`--kernel auto`, autotune.rs).
+    pub kernel: Option<Kernel>,
     /// Rescale cells so each 26-neighbour step conserves energy despite the clamp.
     pub clamp_compensation: bool,
     pub ilpv_lookup: IlpvLookup,
@@ -150,6 +152,20 @@ pub enum InjectToward {
     /// box around the light, where moving along one face's normal leaves it in a cell centred
     /// outside the next face.
     Light,
+}
+
+/// How a propagation step reads its source cells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Kernel {
+    /// A workgroup loads its cells and a one-cell halo into shared memory (z padded) and each
+    /// thread gathers from there: the thesis's CUDA kernel, for GPUs.
+    Tiled,
+    /// Each thread gathers from global memory (for comparison).
+    Naive,
+    /// Each thread steps along a column of cells in z, keeping the 3x3x3 block of sources
+    /// around its cell in registers and loading only the plane ahead: a third of the loads,
+    /// no shared memory and no barrier (for CPU devices, where every load is per lane).
+    Column,
 }
 
 /// How VPLs add into their cells.
@@ -188,7 +204,7 @@ impl Default for LpvSettings {
             blocking_lobe: BlockingLobe::TwoSided,
             blocking_strength: 1.0,
             first_step_unblocked: true,
-            tiled: true,
+            kernel: None,
             clamp_compensation: true,
             ilpv_lookup: IlpvLookup::Accumulated,
             inject_offset: DEFAULT_INJECT_OFFSET,
@@ -374,6 +390,20 @@ const TILE_CANDIDATES: [[u32; 3]; 6] = [
 const Z_PAD: u32 = 1;
 /// Workgroup of the naive kernels.
 const NAIVE_GROUP: [u32; 3] = [4, 4, 4];
+/// Workgroup of the column kernels: one thread per (x, y), each stepping through
+/// [`column_cells`] cells along z.
+const COLUMN_GROUP: [u32; 3] = [8, 8, 1];
+/// Workgroups a column kernel's dispatch should have at least, to keep every core busy.
+const COLUMN_MIN_WORKGROUPS: u32 = 8;
+
+/// Cells along z each thread of a column kernel propagates in a lattice of `dims` cells: the
+/// whole column (the two planes it starts with are loaded once per column, not per step) unless
+/// that leaves fewer than [`COLUMN_MIN_WORKGROUPS`] workgroups, then the column split evenly.
+pub fn column_cells(dims: [u32; 3]) -> u32 {
+    let across = dims[0].div_ceil(COLUMN_GROUP[0]) * dims[1].div_ceil(COLUMN_GROUP[1]);
+    let pieces = COLUMN_MIN_WORKGROUPS.div_ceil(across).min(dims[2]);
+    dims[2].div_ceil(pieces).max(1)
+}
 
 /// Shared memory a tile of `t` cells needs: light (one word per cell) and `geometry_words`
 /// words of geometry per cell, one-cell halo, z padded.
@@ -410,6 +440,9 @@ pub struct Lpv {
     pub settings: LpvSettings,
     pub lattice: Lattice,
     pub transfer: TransferVectors,
+    /// The propagation kernel that runs, and the autotune's reasons when it chose it.
+    pub kernel: Kernel,
+    autotune: Option<autotune::Choice>,
     /// The workgroup tile of the propagation kernel (tiled: the shared-memory tile).
     pub tile: [u32; 3],
     inject_pipeline: ComputePipeline,
@@ -506,6 +539,13 @@ impl Lpv {
         field: Field,
     ) -> anyhow::Result<Lpv> {
         let (gpu, scene) = (setup.gpu, setup.scene);
+        let (kernel, autotune) = match settings.kernel {
+            Some(kernel) => (kernel, None),
+            None => {
+                let choice = autotune::choose(setup, &settings)?;
+                (choice.kernel(), Some(choice))
+            }
+        };
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
         let cells = lattice.cell_count();
         // The largest buffer: the geometry lattice (16 bytes per word, up to 4 words per cell)
@@ -564,8 +604,8 @@ impl Lpv {
         (setup.progress)("geometry lattice", 1.0);
 
         let shared = gpu.info.max_shared_memory_bytes;
-        let (tile, propagate_spirv) = match (settings.scheme, settings.tiled) {
-            (scheme, true) => {
+        let (tile, propagate_spirv) = match (settings.scheme, kernel) {
+            (scheme, Kernel::Tiled) => {
                 let tile =
                     choose_tile(shared, gpu.info.max_workgroup_invocations, geometry_words)
                         .ok_or_else(|| {
@@ -577,16 +617,20 @@ impl Lpv {
                 };
                 (tile, spirv)
             }
-            (Scheme::Ilpv, false) => (NAIVE_GROUP, shaders::GI_LPV_ILPV_NAIVE_COMP),
-            (Scheme::Lpv, false) => (NAIVE_GROUP, shaders::GI_LPV_LPV_NAIVE_COMP),
+            (Scheme::Ilpv, Kernel::Naive) => (NAIVE_GROUP, shaders::GI_LPV_ILPV_NAIVE_COMP),
+            (Scheme::Lpv, Kernel::Naive) => (NAIVE_GROUP, shaders::GI_LPV_LPV_NAIVE_COMP),
+            (Scheme::Ilpv, Kernel::Column) => (COLUMN_GROUP, shaders::GI_LPV_ILPV_COLUMN_COMP),
+            (Scheme::Lpv, Kernel::Column) => (COLUMN_GROUP, shaders::GI_LPV_LPV_COLUMN_COMP),
         };
         let mut spec = Specialization::new()
             .with_u32(0, tile[0])
             .with_u32(1, tile[1])
             .with_u32(2, tile[2])
             .with_u32(4, geometry_words);
-        if settings.tiled {
-            spec = spec.with_u32(3, Z_PAD);
+        match kernel {
+            Kernel::Tiled => spec = spec.with_u32(3, Z_PAD),
+            Kernel::Column => spec = spec.with_u32(5, column_cells(lattice.dims.to_array())),
+            Kernel::Naive => {}
         }
         let none = Specialization::new();
         let propagate_name = match settings.scheme {
@@ -674,6 +718,8 @@ impl Lpv {
         Ok(Lpv {
             lattice,
             transfer,
+            kernel,
+            autotune,
             tile,
             inject_pipeline: ComputePipeline::new(
                 gpu,
@@ -1121,7 +1167,11 @@ impl Lpv {
 
     /// Threads to dispatch for a lattice: whole tiles (every tile loads its own halo).
     fn dispatch_threads(&self, dims: [u32; 3]) -> [u32; 3] {
-        [0, 1, 2].map(|i| dims[i].div_ceil(self.tile[i]) * self.tile[i])
+        let threads = match self.kernel {
+            Kernel::Column => [dims[0], dims[1], dims[2].div_ceil(column_cells(dims))],
+            Kernel::Tiled | Kernel::Naive => dims,
+        };
+        [0, 1, 2].map(|i| threads[i].div_ceil(self.tile[i]) * self.tile[i])
     }
 }
 
@@ -1325,22 +1375,20 @@ impl GiMethod for Lpv {
 
     fn describe(&self) -> Vec<String> {
         let d = self.lattice.dims;
-        let kernel = if self.settings.tiled {
-            format!(
-                "tiled {}x{}x{} (shared {} of {} bytes, z padded by {Z_PAD})",
-                self.tile[0],
-                self.tile[1],
-                self.tile[2],
+        let [tx, ty, tz] = self.tile;
+        let kernel = match self.kernel {
+            Kernel::Tiled => format!(
+                "tiled {tx}x{ty}x{tz} (shared {} of {} bytes, z padded by {Z_PAD})",
                 tile_shared_bytes(self.tile, self.geometry_words()),
                 self.device_shared_bytes
-            )
-        } else {
-            format!(
-                "naive (global memory, workgroup {}x{}x{})",
-                self.tile[0], self.tile[1], self.tile[2]
-            )
+            ),
+            Kernel::Naive => format!("naive (global memory, workgroup {tx}x{ty}x{tz})"),
+            Kernel::Column => format!(
+                "column ({} cells along z per thread, sources in registers, workgroup {tx}x{ty})",
+                column_cells(d.to_array())
+            ),
         };
-        vec![
+        let mut lines = vec![
             format!(
                 "{:?}: lattice {}x{}x{} cells of {:.4} (scene units), {} steps, λ_incr {}, κ {:.6}",
                 self.settings.scheme,
@@ -1353,6 +1401,27 @@ impl GiMethod for Lpv {
                 self.transfer.kappa
             ),
             format!("propagation kernel: {kernel}"),
-        ]
+        ];
+        if let Some(choice) = &self.autotune {
+            lines.push(choice.describe());
+        }
+        lines
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn column_threads_take_whole_columns_unless_the_cores_would_idle() {
+        assert_eq!(column_cells([32, 32, 32]), 32);
+        assert_eq!(column_cells([64, 63, 64]), 64);
+        // 4 workgroups across: each column in two halves.
+        assert_eq!(column_cells([16, 16, 16]), 8);
+        assert_eq!(column_cells([9, 9, 9]), 5);
+        // One workgroup across: one cell each, 8 workgroups.
+        assert_eq!(column_cells([8, 8, 8]), 1);
+        assert_eq!(column_cells([2, 2, 1]), 1);
     }
 }
