@@ -9,6 +9,7 @@
 //! with each kernel (a warm-up, then the fastest of five) and takes the faster. The choice is
 //! kept for the process and in `kernels.json` in vkgi's cache folder (`$VKGI_CACHE_DIR`, else
 //! `$XDG_CACHE_HOME/vkgi`, else `~/.cache/vkgi`), keyed by the device, its driver, the scheme,
+//! the lattice size (small lattices favour tiles: a column kernel there has one-cell columns),
 //! the geometry words and the kernels' SPIR-V, so later runs skip the measurement and a new
 //! build or driver measures again. A cache that cannot be read or written is measured around.
 
@@ -135,10 +136,11 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
         crate::digest::fnv1a(k.iter().copied(), h)
     });
     format!(
-        "{} | {} | {:?} | {} words | {spirv:016x}",
+        "{} | {} | {:?} | lattice {} | {} words | {spirv:016x}",
         info.name,
         info.driver,
         settings.scheme,
+        settings.lattice,
         settings.blocking_lobe.words_per_cell()
     )
 }
