@@ -69,24 +69,4 @@ void store(ivec3 cell, vec4 dst) {
     accumulation_cells[i] += dst;
 }
 
-void main() {
-#if LPV_COLUMN
-    ivec3 first = ivec3(gl_GlobalInvocationID.xy, gl_GlobalInvocationID.z * COLUMN);
-    if (!lattice_inside(first, pc.dims.xyz)) return;
-    load_plane(first, -1);
-    load_plane(first, 0);
-    // Every thread of a workgroup shares its z range, so the loop ends for all at once.
-    for (uint k = 0u; k < COLUMN; ++k) {
-        ivec3 cell = first + ivec3(0, 0, k);
-        if (cell.z >= pc.dims.z) break;
-        load_plane(cell, 1);
-        store(cell, gather(cell));
-        advance_column();
-    }
-#else
-    prepare_sources();
-    ivec3 cell = ivec3(gl_GlobalInvocationID);
-    if (!lattice_inside(cell, pc.dims.xyz)) return;
-    store(cell, gather(cell));
-#endif
-}
+#include "gi/lpv/step_main.glsl"

@@ -1,0 +1,29 @@
+#ifndef VKGI_LPV_STEP_MAIN_GLSL
+#define VKGI_LPV_STEP_MAIN_GLSL
+// The entry point of a propagation step: the including step defines `vec4 gather(ivec3 cell)`
+// (the cell's new light from its sources, read through tile.glsl) and
+// `void store(ivec3 cell, vec4 light)`; tile.glsl's mode decides how cells are walked.
+
+void main() {
+#if LPV_COLUMN
+    ivec3 first = ivec3(gl_GlobalInvocationID.xy, gl_GlobalInvocationID.z * COLUMN);
+    if (!lattice_inside(first, pc.dims.xyz)) return;
+    load_plane(first, -1);
+    load_plane(first, 0);
+    // Every thread of a workgroup shares its z range, so the loop ends for all at once.
+    for (uint k = 0u; k < COLUMN; ++k) {
+        ivec3 cell = first + ivec3(0, 0, k);
+        if (cell.z >= pc.dims.z) break;
+        load_plane(cell, 1);
+        store(cell, gather(cell));
+        advance_column();
+    }
+#else
+    prepare_sources();
+    ivec3 cell = ivec3(gl_GlobalInvocationID);
+    if (!lattice_inside(cell, pc.dims.xyz)) return;
+    store(cell, gather(cell));
+#endif
+}
+
+#endif
