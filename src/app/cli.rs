@@ -370,7 +370,8 @@ pub struct ReferenceArgs {
     pub strategy: crate::reference::Strategy,
 
     /// Where to trace: auto (the CPU's cores when the Vulkan device is a CPU, as lavapipe is; the
-    /// device otherwise), gpu or cpu. The same estimator and random numbers either way.
+    /// device otherwise), gpu or cpu. The same estimator and random numbers either way; every
+    /// choice opens a Vulkan device (its image limits apply to both).
     #[arg(long, value_enum, default_value_t = crate::reference::Tracer::Auto)]
     pub tracer: crate::reference::Tracer,
     /// Seed of the random numbers (the image is deterministic for a seed).

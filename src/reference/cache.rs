@@ -32,14 +32,18 @@ pub struct CacheRecord {
     pub device: String,
 }
 
-/// Bumped whenever the estimator's meaning changes without the shader changing.
+/// Bumped whenever the estimator's meaning changes without the shader or the CPU estimator's
+/// source changing.
 const ESTIMATOR_VERSION: &str = "vkgi-reference-1";
 
+/// The code a reference came from: the shader's SPIR-V and the CPU estimator's source (either
+/// may have traced it; both are the same estimator), and [`ESTIMATOR_VERSION`].
 pub fn code_version() -> String {
     let h = fnv1a(
         crate::shaders::REFERENCE_PATHTRACE_COMP.iter().copied(),
         FNV_OFFSET,
     );
+    let h = fnv1a(include_str!("cpu.rs").bytes(), h);
     format!("{:016x}", fnv1a(ESTIMATOR_VERSION.bytes(), h))
 }
 

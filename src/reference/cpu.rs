@@ -1,7 +1,7 @@
 //! The path tracer's estimator on the CPU, step for step as in pathtrace.comp (punctual lights
 //! and emitters by next-event estimation, emitter hits by bounces, combined by multiple
-//! importance sampling), with the same random numbers; tests compare it with the GPU on small
-//! images.
+//! importance sampling), with the same random numbers. Tests hold it to the GPU's; `--tracer
+//! auto` renders references with it when the Vulkan device is itself a CPU.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -10,9 +10,8 @@ use glam::{DVec3, Vec2, Vec3, Vec4};
 use super::rng::random_float;
 use super::{
     Bounces, RUSSIAN_ROULETTE_START, ReferenceImages, ReferenceSettings, SAMPLES_PER_BATCH,
-    Strategy, inverse_view_projection, ray_epsilon,
+    Strategy, inverse_view_projection, mean_image, ray_epsilon,
 };
-use crate::imageio::HdrImage;
 use crate::scene::brdf;
 use crate::scene::bvh::Bvh;
 use crate::scene::emitters::Emitters;
@@ -53,9 +52,10 @@ fn power_heuristic(a: f32, b: f32) -> f32 {
 }
 
 /// Render with the CPU estimator on `threads` threads (rows shared out as threads ask for
-/// them), in batches of [`SAMPLES_PER_BATCH`] samples summed in f64 per pixel, as the GPU's host
-/// sums are. `progress(done, total)` follows the samples. The image does not depend on the
-/// thread count: each pixel's samples are its own, summed in one order.
+/// them), in batches of [`SAMPLES_PER_BATCH`] samples, every sample added to its pixel's f64
+/// sums (the GPU sums a batch in f32 before the host adds it in f64). `progress(done, total)`
+/// follows the samples. The image does not depend on the thread count: each pixel's samples
+/// are its own, summed in one order.
 pub fn render(
     scene: &Scene,
     settings: &ReferenceSettings,
@@ -118,21 +118,10 @@ pub fn render(
         done = samples.end;
         progress(done, settings.spp);
     }
-    let n = f64::from(settings.spp.max(1));
-    let mean = |part: usize| -> anyhow::Result<HdrImage> {
-        let pixels: Vec<[f32; 3]> = sums
-            .iter()
-            .map(|s| (s[part] / n).as_vec3().to_array())
-            .collect();
-        anyhow::ensure!(
-            pixels.iter().flatten().all(|v| v.is_finite()),
-            "the path tracer produced non-finite radiance"
-        );
-        Ok(HdrImage::new(w, h, pixels))
-    };
+    let part = |k: usize| sums.iter().map(move |s| s[k].to_array());
     Ok(ReferenceImages {
-        direct: mean(0)?,
-        indirect: mean(1)?,
+        direct: mean_image(part(0), settings)?,
+        indirect: mean_image(part(1), settings)?,
     })
 }
 

@@ -413,18 +413,26 @@ impl PathTracer {
             done += samples;
             progress(done, settings.spp);
         }
-        let mean = |sums: Vec<[f64; 3]>| -> anyhow::Result<HdrImage> {
-            let n = f64::from(settings.spp.max(1));
-            let pixels: Vec<[f32; 3]> = sums.iter().map(|s| s.map(|v| (v / n) as f32)).collect();
-            anyhow::ensure!(
-                pixels.iter().flatten().all(|v| v.is_finite()),
-                "the path tracer produced non-finite radiance"
-            );
-            Ok(HdrImage::new(settings.width, settings.height, pixels))
-        };
         Ok(ReferenceImages {
-            direct: mean(sums.direct)?,
-            indirect: mean(sums.indirect)?,
+            direct: mean_image(sums.direct, settings)?,
+            indirect: mean_image(sums.indirect, settings)?,
         })
     }
+}
+
+/// The image of per-pixel sums over `settings.spp` samples; non-finite radiance is an error.
+pub(crate) fn mean_image(
+    sums: impl IntoIterator<Item = [f64; 3]>,
+    settings: &ReferenceSettings,
+) -> anyhow::Result<HdrImage> {
+    let n = f64::from(settings.spp.max(1));
+    let pixels: Vec<[f32; 3]> = sums
+        .into_iter()
+        .map(|s| s.map(|v| (v / n) as f32))
+        .collect();
+    anyhow::ensure!(
+        pixels.iter().flatten().all(|v| v.is_finite()),
+        "the path tracer produced non-finite radiance"
+    );
+    Ok(HdrImage::new(settings.width, settings.height, pixels))
 }

@@ -405,6 +405,11 @@ mod tests {
             let brute = mesh.intersect(origin, dir, 1e-4, 1e9);
             let fast = bvh.intersect(origin, dir, 1e-4, 1e9);
             assert_eq!(brute.map(|h| h.triangle), fast.map(|h| h.triangle));
+            assert_eq!(bvh.occluded(origin, dir, 1e-4, 1e9), brute.is_some());
+            // A segment that ends before the nearest hit is free.
+            if let Some(hit) = brute {
+                assert!(!bvh.occluded(origin, dir, 1e-4, hit.t * 0.999));
+            }
         }
     }
 }

@@ -2,4 +2,5 @@
 // Classic 6-neighbour LPV step, a column of cells along z per thread, sources kept in registers.
 #define LPV_TILED 0
 #define LPV_COLUMN 1
+#define COLUMN_FACES_ONLY 1
 #include "gi/lpv/kd10_step.glsl"

@@ -1,9 +1,11 @@
 #ifndef VKGI_LPV_TILE_GLSL
 #define VKGI_LPV_TILE_GLSL
-// Where a propagation step reads its source cells. The including shader defines LPV_TILED,
-// declares the buffers `source_cells` (vec4 per cell) and `geometry_cells` (GEOMETRY_WORDS vec4
-// per cell, blocking.glsl) and a push-constant block `pc` with `ivec4 dims`, and calls
-// prepare_sources() in uniform control flow first.
+// Where a propagation step reads its source cells. The including shader defines LPV_TILED and
+// LPV_COLUMN (one of them 1, or neither for the naive kernel) and COLUMN_FACES_ONLY (1 when the
+// step reads only face neighbours), declares the buffers `source_cells` (vec4 per cell) and
+// `geometry_cells` (GEOMETRY_WORDS vec4 per cell, blocking.glsl) and a push-constant block `pc`
+// with `ivec4 dims`; step_main.glsl walks the cells (tiled: prepare_sources() first, in uniform
+// control flow; column: load_plane() and advance_column() along the column).
 //
 // Tiled: the workgroup (one tile of cells) loads its cells plus a one-cell halo of light and
 // geometry into shared memory, zero outside the lattice. Shared memory is laid out [x][y][z]
@@ -70,12 +72,15 @@ uint column_slot(ivec3 offset) {
     return uint((offset.z + 1) * 9 + (offset.y + 1) * 3 + offset.x + 1);
 }
 
-// The plane z = cell.z + dz of the block around `cell` into its slots (zero outside).
+// The plane z = cell.z + dz of the block around `cell` into its slots (zero outside); with
+// COLUMN_FACES_ONLY only the plus shape a face-neighbour step reads (5 of the 9 cells).
 void load_plane(ivec3 cell, int dz) {
     [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
         [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
+            // A constant once unrolled: unread corners are left zero and never loaded.
+            bool wanted = COLUMN_FACES_ONLY == 0 || dx == 0 || dy == 0;
             ivec3 c = cell + ivec3(dx, dy, dz);
-            bool inside = lattice_inside(c, pc.dims.xyz);
+            bool inside = wanted && lattice_inside(c, pc.dims.xyz);
             uint k = inside ? lattice_index(c, pc.dims.xyz) : 0u;
             uint slot = column_slot(ivec3(dx, dy, dz));
             column_light[slot] = inside ? source_cells[k] : vec4(0.0);

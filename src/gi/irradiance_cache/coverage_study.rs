@@ -150,12 +150,13 @@ impl Field<'_> {
             }
             let to_light = light.position.as_dvec3() - origin;
             let distance = to_light.length();
-            let blocked = self.bvh.intersect(origin.as_vec3(),
+            let blocked = self.bvh.occluded(
+                origin.as_vec3(),
                 (to_light / distance).as_vec3(),
                 0.0,
                 (distance * (1.0 - 1e-6)) as f32,
             );
-            if blocked.is_none() {
+            if !blocked {
                 e += incident;
             }
         }

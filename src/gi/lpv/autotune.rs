@@ -2,19 +2,23 @@
 //!
 //! The tiled kernel (a shared-memory tile per workgroup) suits GPUs; the column kernel (a
 //! column of cells per thread, its sources in registers) suits CPU devices such as lavapipe,
-//! where every load is made lane by lane. Both compute the same bits (tests/lpv.rs), so the
-//! choice changes only speed, never an image or a CAVE node's lattice digest.
+//! where every load is made lane by lane. Both do the same arithmetic in the same order, and on
+//! lavapipe give the same bits (tests/lpv.rs asserts it), so there the choice changes only speed.
+//! A driver that contracted the two modules' arithmetic differently could differ in the last
+//! bits; a CAVE whose nodes must agree bit for bit can pin `--kernel`.
 //!
-//! The first lattice a process builds on a device times one propagation of every colour channel
-//! with each kernel (a warm-up, then the fastest of five) and takes the faster. The choice is
-//! kept for the process and in `kernels.json` in vkgi's cache folder (`$VKGI_CACHE_DIR`, else
+//! The first lattice of its kind (scheme, lattice size, geometry words) a process builds on a
+//! device times a short propagation of every colour channel with each kernel (alternating, a
+//! warm-up, then the fastest of five) and takes the faster; a kernel that cannot be built there
+//! (no tile fits the shared memory, say) is not a candidate. The choice is kept for the process
+//! and in `kernels.json` in vkgi's cache folder (`$VKGI_CACHE_DIR`, else
 //! `$XDG_CACHE_HOME/vkgi`, else `~/.cache/vkgi`), keyed by the device, its driver, the scheme,
 //! the lattice size (small lattices favour tiles: a column kernel there has one-cell columns),
 //! the geometry words and the kernels' SPIR-V, so later runs skip the measurement and a new
 //! build or driver measures again. A cache that cannot be read or written is measured around.
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
@@ -30,32 +34,28 @@ const STEPS: u32 = 2;
 /// The autotune's choice and what it rests on.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Choice {
-    /// "tiled" or "column".
-    pub kernel: String,
+    pub kernel: Kernel,
     /// Milliseconds of one propagation step of all three channels, per kernel measured.
     pub tiled_ms: f64,
     pub column_ms: f64,
     /// The lattice side it was measured at.
     pub lattice: u32,
-    /// Where it came from this time: "measured", "cached in PATH" or "this process".
+    /// Where it came from this time: "measured now", "cached in PATH" or "chosen earlier in
+    /// this process".
     #[serde(skip)]
     pub source: String,
 }
 
 impl Choice {
-    pub fn kernel(&self) -> Kernel {
-        if self.kernel == "column" {
-            Kernel::Column
-        } else {
-            Kernel::Tiled
-        }
-    }
-
     /// One line for the profile.
     pub fn describe(&self) -> String {
         format!(
             "chosen by --kernel auto: {} (one step of all channels at lattice {}: tiled {:.2} ms, column {:.2} ms; {})",
-            self.kernel, self.lattice, self.tiled_ms, self.column_ms, self.source
+            format!("{:?}", self.kernel).to_lowercase(),
+            self.lattice,
+            self.tiled_ms,
+            self.column_ms,
+            self.source
         )
     }
 }
@@ -63,18 +63,23 @@ impl Choice {
 /// The kernel `--kernel auto` runs for `settings` on `setup`'s device.
 pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     let key = cache_key(setup, settings);
+    // One lock over look-up, measurement and write: two threads never time kernels at once (nor
+    // against each other), nor write the cache file together.
     static CHOSEN: OnceLock<Mutex<HashMap<String, Choice>>> = OnceLock::new();
-    let chosen = CHOSEN.get_or_init(Default::default);
-    if let Some(choice) = chosen.lock().ok().and_then(|m| m.get(&key).cloned()) {
+    let mut chosen = CHOSEN
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if let Some(choice) = chosen.get(&key) {
         return Ok(Choice {
             source: "chosen earlier in this process".into(),
-            ..choice
+            ..choice.clone()
         });
     }
     let path = cache_file();
-    let choice = match path.as_ref().and_then(|p| read_cache(p).remove(&key)) {
+    let choice = match path.as_deref().and_then(|p| read_cache(p).remove(&key)) {
         Some(cached) => Choice {
-            source: format!("cached in {}", path.as_ref().map_or(String::new(), |p| p.display().to_string())),
+            source: format!("cached in {}", path.as_deref().unwrap_or(Path::new("")).display()),
             ..cached
         },
         None => {
@@ -87,9 +92,7 @@ pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
             measured
         }
     };
-    if let Ok(mut m) = chosen.lock() {
-        m.insert(key, choice.clone());
-    }
+    chosen.insert(key, choice.clone());
     Ok(choice)
 }
 
@@ -104,23 +107,44 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
         };
         Lpv::with_field(setup, settings, Field::Whole)
     };
-    let mut lattices = [probe(Kernel::Tiled)?, probe(Kernel::Column)?];
-    let mut best = [f64::INFINITY; 2];
+    // A kernel that cannot be built on this device (or for this lattice) is no candidate.
+    let mut candidates: Vec<(Kernel, Lpv, f64)> = Vec::new();
+    let mut refused = None;
+    for kernel in [Kernel::Tiled, Kernel::Column] {
+        match probe(kernel) {
+            Ok(lpv) => candidates.push((kernel, lpv, f64::INFINITY)),
+            Err(e) => refused = Some(e),
+        }
+    }
+    if let (true, Some(e)) = (candidates.is_empty(), refused) {
+        return Err(e);
+    }
     // Runs alternate between the kernels, so a machine that slows for a while slows both.
     for run in 0..=RUNS {
-        for (k, lpv) in lattices.iter_mut().enumerate() {
+        for (_, lpv, best) in &mut candidates {
             let start = Instant::now();
             setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
             let ms = start.elapsed().as_secs_f64() * 1e3 / f64::from(STEPS);
             if run > 0 {
-                best[k] = best[k].min(ms);
+                *best = best.min(ms);
             }
         }
     }
+    let time = |kernel| {
+        candidates
+            .iter()
+            .find(|c| c.0 == kernel)
+            .map_or(f64::INFINITY, |c| c.2)
+    };
+    let (tiled_ms, column_ms) = (time(Kernel::Tiled), time(Kernel::Column));
     Ok(Choice {
-        kernel: if best[1] < best[0] { "column" } else { "tiled" }.into(),
-        tiled_ms: best[0],
-        column_ms: best[1],
+        kernel: if column_ms < tiled_ms {
+            Kernel::Column
+        } else {
+            Kernel::Tiled
+        },
+        tiled_ms,
+        column_ms,
         lattice: settings.lattice,
         source: "measured now".into(),
     })
@@ -154,7 +178,7 @@ fn cache_file() -> Option<PathBuf> {
     Some(folder.join("kernels.json"))
 }
 
-fn read_cache(path: &PathBuf) -> HashMap<String, Choice> {
+fn read_cache(path: &Path) -> HashMap<String, Choice> {
     std::fs::read_to_string(path)
         .ok()
         .and_then(|text| serde_json::from_str(&text).ok())
@@ -163,7 +187,7 @@ fn read_cache(path: &PathBuf) -> HashMap<String, Choice> {
 
 /// Add `choice` under `key`; the file is replaced whole (written beside it, then renamed), so a
 /// reader never sees half of it.
-fn write_cache(path: &PathBuf, key: &str, choice: &Choice) -> std::io::Result<()> {
+fn write_cache(path: &Path, key: &str, choice: &Choice) -> std::io::Result<()> {
     let mut all = read_cache(path);
     all.insert(key.to_string(), choice.clone());
     if let Some(folder) = path.parent() {

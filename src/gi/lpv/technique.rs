@@ -155,7 +155,7 @@ pub enum InjectToward {
 }
 
 /// How a propagation step reads its source cells.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Kernel {
     /// A workgroup loads its cells and a one-cell halo into shared memory (z padded) and each
     /// thread gathers from there: the thesis's CUDA kernel, for GPUs.
@@ -163,8 +163,9 @@ pub enum Kernel {
     /// Each thread gathers from global memory (for comparison).
     Naive,
     /// Each thread steps along a column of cells in z, keeping the 3x3x3 block of sources
-    /// around its cell in registers and loading only the plane ahead: a third of the loads,
-    /// no shared memory and no barrier (for CPU devices, where every load is per lane).
+    /// around its cell in registers and loading only the plane ahead (ILPV 9 cells instead of
+    /// 27, LPV the plus of 5 its face neighbours need), with no shared memory and no barrier
+    /// (for CPU devices, where every load is made lane by lane).
     Column,
 }
 
@@ -402,7 +403,7 @@ const COLUMN_MIN_WORKGROUPS: u32 = 8;
 pub fn column_cells(dims: [u32; 3]) -> u32 {
     let across = dims[0].div_ceil(COLUMN_GROUP[0]) * dims[1].div_ceil(COLUMN_GROUP[1]);
     let pieces = COLUMN_MIN_WORKGROUPS.div_ceil(across).min(dims[2]);
-    dims[2].div_ceil(pieces).max(1)
+    dims[2].div_ceil(pieces)
 }
 
 /// Shared memory a tile of `t` cells needs: light (one word per cell) and `geometry_words`
@@ -445,6 +446,8 @@ pub struct Lpv {
     autotune: Option<autotune::Choice>,
     /// The workgroup tile of the propagation kernel (tiled: the shared-memory tile).
     pub tile: [u32; 3],
+    /// Threads of each propagation dispatch.
+    propagate_threads: [u32; 3],
     inject_pipeline: ComputePipeline,
     /// The fixed-point injection's sums and the pass back to floats (`Injection::Fixed`).
     fixed: Option<FixedInjection>,
@@ -543,7 +546,7 @@ impl Lpv {
             Some(kernel) => (kernel, None),
             None => {
                 let choice = autotune::choose(setup, &settings)?;
-                (choice.kernel(), Some(choice))
+                (choice.kernel, Some(choice))
             }
         };
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
@@ -622,6 +625,8 @@ impl Lpv {
             (Scheme::Ilpv, Kernel::Column) => (COLUMN_GROUP, shaders::GI_LPV_ILPV_COLUMN_COMP),
             (Scheme::Lpv, Kernel::Column) => (COLUMN_GROUP, shaders::GI_LPV_LPV_COLUMN_COMP),
         };
+        let column = column_cells(lattice.dims.to_array());
+        let propagate_threads = propagation_threads(kernel, lattice.dims.to_array(), tile, column);
         let mut spec = Specialization::new()
             .with_u32(0, tile[0])
             .with_u32(1, tile[1])
@@ -629,7 +634,7 @@ impl Lpv {
             .with_u32(4, geometry_words);
         match kernel {
             Kernel::Tiled => spec = spec.with_u32(3, Z_PAD),
-            Kernel::Column => spec = spec.with_u32(5, column_cells(lattice.dims.to_array())),
+            Kernel::Column => spec = spec.with_u32(5, column),
             Kernel::Naive => {}
         }
         let none = Specialization::new();
@@ -721,6 +726,7 @@ impl Lpv {
             kernel,
             autotune,
             tile,
+            propagate_threads,
             inject_pipeline: ComputePipeline::new(
                 gpu,
                 "inject",
@@ -1027,7 +1033,6 @@ impl Lpv {
     ) -> GpuResult<()> {
         let cells = self.lattice.cell_count() as u32;
         let pair = &self.lattices[channel];
-        let d = self.lattice.dims;
         let use_blocking = if step == 0 && self.settings.first_step_unblocked {
             0.0
         } else {
@@ -1074,7 +1079,7 @@ impl Lpv {
                         Binding::write(ids::ILPV_ACCUMULATION, &self.accumulation[channel]),
                     ],
                     push: &push,
-                    threads: self.dispatch_threads([d.x, d.y, d.z]),
+                    threads: self.propagate_threads,
                 })
             }
             Scheme::Lpv => {
@@ -1093,7 +1098,7 @@ impl Lpv {
                         Binding::uniform(ids::LPV_AXES, &self.axes),
                     ],
                     push: &push,
-                    threads: self.dispatch_threads([d.x, d.y, d.z]),
+                    threads: self.propagate_threads,
                 })
             }
         }
@@ -1165,14 +1170,16 @@ impl Lpv {
         Ok(hash)
     }
 
-    /// Threads to dispatch for a lattice: whole tiles (every tile loads its own halo).
-    fn dispatch_threads(&self, dims: [u32; 3]) -> [u32; 3] {
-        let threads = match self.kernel {
-            Kernel::Column => [dims[0], dims[1], dims[2].div_ceil(column_cells(dims))],
-            Kernel::Tiled | Kernel::Naive => dims,
-        };
-        [0, 1, 2].map(|i| threads[i].div_ceil(self.tile[i]) * self.tile[i])
-    }
+}
+
+/// Threads a propagation step dispatches over a lattice of `dims` cells: a thread per cell (a
+/// column kernel: per column piece of `column` cells), in whole workgroups of `group`.
+fn propagation_threads(kernel: Kernel, dims: [u32; 3], group: [u32; 3], column: u32) -> [u32; 3] {
+    let threads = match kernel {
+        Kernel::Column => [dims[0], dims[1], dims[2].div_ceil(column)],
+        Kernel::Tiled | Kernel::Naive => dims,
+    };
+    [0, 1, 2].map(|i| threads[i].div_ceil(group[i]) * group[i])
 }
 
 /// The flux per colour channel the RSM sees: the punctual lights and the area-light samples.
