@@ -213,6 +213,55 @@ fn direct_irradiance_matches_the_analytic_spot_light_within_two_percent() {
     );
 }
 
+/// Direct lighting reads up to `MAX_SHARED_LIGHTS` lights at constant indices and selects each
+/// pixel's shadow view among a light's views; more lights take the loop that reads them per
+/// pixel. Both must give the same image: a point light (6 views), a wide spot (5), a narrow spot
+/// (1) and a cosine lobe (5), then the same with dark lights added to pass the limit.
+#[test]
+fn shared_and_looped_lights_give_the_same_direct_light() {
+    use vkgi::scene::{Light, LightKind};
+    let gpu = common::gpu();
+    let mut scene = Scene::load("cornell").unwrap();
+    let at = |x: f32, z: f32| Vec3::new(x, 0.45, z);
+    let light = |position: Vec3, kind: LightKind, flux: f32| Light {
+        position,
+        kind,
+        flux,
+        color: Vec3::new(1.0, 0.9, 0.8),
+    };
+    let spot = |cone_angle_deg: f32| LightKind::Spot {
+        direction: Vec3::new(0.2, -1.0, 0.1),
+        cone_angle_deg,
+        penumbra_deg: 10.0,
+    };
+    let cosine = LightKind::Cosine {
+        direction: Vec3::NEG_Y,
+    };
+    scene.lights = vec![
+        light(at(0.15, 0.2), LightKind::Point, 0.3),
+        light(at(0.4, 0.3), spot(75.0), 0.3),
+        light(at(0.3, 0.4), spot(25.0), 0.3),
+        light(at(0.25, 0.25), cosine, 0.3),
+    ];
+    let (_, shared) = common::render(&gpu, &scene, 96, 72);
+    let lights = scene.lights.len();
+    scene.lights.extend(
+        (0..=vkgi::render::passes::MAX_SHARED_LIGHTS - lights)
+            .map(|i| light(at(0.1 + 0.05 * i as f32, 0.3), LightKind::Point, 0.0)),
+    );
+    let (_, looped) = common::render(&gpu, &scene, 96, 72);
+    common::assert_no_validation_errors(&gpu);
+    let lit = shared
+        .iter()
+        .filter(|p| common::luminance(**p) > 1e-3)
+        .count();
+    assert!(lit > shared.len() / 2, "only {lit} lit pixels");
+    assert_eq!(
+        shared, looped,
+        "the shared-light and looped-light paths differ"
+    );
+}
+
 #[test]
 fn two_rooms_scene_renders_its_lit_room() {
     let gpu = common::gpu();

@@ -51,10 +51,11 @@ void light_frame(vec3 axis, out vec3 u, out vec3 v) {
     v = cross(axis, u);
 }
 
-// Which of a light's shadow views covers `p`: cube face by major axis for point lights (6
-// views), the front or a side face of the cube around the axis for wide spots (5 views).
-uint shadow_view_index(Light light, vec3 p) {
-    if (light.shadow.y <= 1u) return light.shadow.x;
+// Which of a light's shadow views covers `p`, counted from its first: cube face by major axis
+// for point lights (6 views), the front or a side face of the cube around the axis for wide
+// spots and cosine lobes (5 views), 0 for a light with one view.
+uint shadow_face(Light light, vec3 p) {
+    if (light.shadow.y <= 1u) return 0u;
     vec3 d = p - light.position_kind.xyz;
     uint face;
     if (light.shadow.y == 5u) {
@@ -65,13 +66,18 @@ uint shadow_view_index(Light light, vec3 p) {
         if (l.x >= abs(l.y) && l.x >= abs(l.z)) face = 0u;
         else if (abs(l.y) >= abs(l.z)) face = l.y >= 0.0 ? 1u : 2u;
         else face = l.z >= 0.0 ? 3u : 4u;
-        return light.shadow.x + face;
+        return face;
     }
     vec3 a = abs(d);
     if (a.x >= a.y && a.x >= a.z) face = d.x >= 0.0 ? 0u : 1u;
     else if (a.y >= a.z) face = d.y >= 0.0 ? 2u : 3u;
     else face = d.z >= 0.0 ? 4u : 5u;
-    return light.shadow.x + face;
+    return face;
+}
+
+// The index of the shadow view (and shadow-map layer) that covers `p`.
+uint shadow_view_index(Light light, vec3 p) {
+    return light.shadow.x + shadow_face(light, p);
 }
 
 // Fraction of the light reaching `p` (normal `n`), from a 3x3 bilinear PCF of the shadow map

@@ -167,7 +167,7 @@ impl Frame {
             SubmitPlan::Async => true,
         };
         let mut frame = Frame {
-            passes: ScenePasses::new(gpu, scene)?,
+            passes: ScenePasses::new(gpu, scene, &raster_lights)?,
             scene: scene_buffers,
             shadow_map,
             shadow_sampler: gpu

@@ -9,8 +9,8 @@ use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder, Sampler, Specialization,
 };
-use crate::scene::gpu::SceneBuffers;
-use crate::scene::{Material, Scene};
+use crate::scene::gpu::{SceneBuffers, shadow_view_ranges};
+use crate::scene::{Light, Material, Scene};
 use crate::shader_shared as ids;
 use crate::shaders;
 
@@ -38,8 +38,15 @@ crate::push_constants! {
         size: [u32; 2],
         light_count: u32,
         include_direct: u32,
+        first_view: [u32; MAX_SHARED_LIGHTS],
+        view_count: [u32; MAX_SHARED_LIGHTS],
     }
 }
+
+/// A scene with at most this many rasterised lights is lit by direct lighting at constant
+/// indices into its lights and shadow views (`SHARED_LIGHTS` in raster/lighting.comp), read once
+/// for all pixels of a SIMD batch on lavapipe instead of lane by lane.
+pub const MAX_SHARED_LIGHTS: usize = 8;
 
 crate::push_constants! {
     struct TonemapPush {
@@ -71,6 +78,9 @@ impl MaterialTerms {
 
 /// The pipelines of the frame's own passes.
 pub struct ScenePasses {
+    /// The shared lights' shadow views (first, count), when direct lighting reads the lights at
+    /// constant indices; empty when it loops over any number of them.
+    shared_light_views: Vec<(u32, u32)>,
     shadow: RasterPipeline,
     gbuffer: RasterPipeline,
     lighting: ComputePipeline,
@@ -78,15 +88,26 @@ pub struct ScenePasses {
 }
 
 impl ScenePasses {
-    /// The frame's pipelines for `scene`: direct lighting leaves out emission or the glossy lobe
-    /// when no material has it (lavapipe would run that code for every pixel).
-    pub fn new(gpu: &Gpu, scene: &Scene) -> GpuResult<ScenePasses> {
+    /// The frame's pipelines for `scene` lit by `raster_lights`: direct lighting leaves out
+    /// emission or the glossy lobe when no material has it (lavapipe would run that code for
+    /// every pixel), and reads up to [`MAX_SHARED_LIGHTS`] lights at constant indices. The
+    /// lights may move later but not change in number or shadow views.
+    pub fn new(gpu: &Gpu, scene: &Scene, raster_lights: &[Light]) -> GpuResult<ScenePasses> {
         let none = Specialization::new();
         let terms = MaterialTerms::of(scene);
+        let shared_light_views = if raster_lights.len() <= MAX_SHARED_LIGHTS {
+            shadow_view_ranges(raster_lights)
+        } else {
+            Vec::new()
+        };
+        let most_views = shared_light_views.iter().map(|v| v.1).max().unwrap_or(1);
         let lighting = Specialization::new()
             .with_u32(0, u32::from(terms.emissive))
-            .with_u32(1, u32::from(terms.glossy));
+            .with_u32(1, u32::from(terms.glossy))
+            .with_u32(2, shared_light_views.len() as u32)
+            .with_u32(3, most_views);
         Ok(ScenePasses {
+            shared_light_views,
             shadow: RasterPipeline::new(
                 gpu,
                 &RasterPipelineDesc {
@@ -197,12 +218,18 @@ impl ScenePasses {
         include_direct: bool,
     ) -> GpuResult<()> {
         let g = &view.gbuffer;
-        let push = LightingPush {
+        let mut push = LightingPush {
             camera_position: view.eye.position.extend(1.0).to_array(),
             size: [view.width(), view.height()],
             light_count: scene.light_count,
             include_direct: u32::from(include_direct),
+            first_view: [0; MAX_SHARED_LIGHTS],
+            view_count: [0; MAX_SHARED_LIGHTS],
         };
+        for (i, &(first, count)) in self.shared_light_views.iter().enumerate() {
+            push.first_view[i] = first;
+            push.view_count[i] = count;
+        }
         rec.compute(&ComputePass {
             name: DIRECT_LIGHTING,
             pipeline: &self.lighting,

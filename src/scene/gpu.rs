@@ -93,6 +93,19 @@ pub fn light_frame(axis: Vec3) -> (Vec3, Vec3, Vec3) {
     (axis, u, axis.cross(u))
 }
 
+/// Each light's first shadow view and number of views, as [`shadow_views`] lays them out (one
+/// after another, in light order).
+pub fn shadow_view_ranges(lights: &[Light]) -> Vec<(u32, u32)> {
+    lights
+        .iter()
+        .scan(0, |first, light| {
+            let range = (*first, light.shadow_view_count());
+            *first += range.1;
+            Some(range)
+        })
+        .collect()
+}
+
 /// One perspective view per spot light up to [`crate::scene::light::WIDE_SPOT_DEG`], five
 /// faces of a cube around the axis for a wider one (front, then ±u, ±v of its frame), six
 /// (cube faces) per point light.
@@ -279,5 +292,42 @@ impl SceneBuffers {
             .iter()
             .map(|v| Vec3::from_slice(&v.origin[..3]))
             .collect();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shadow_view_ranges_follow_the_views_shadow_views_lays_out() {
+        let scene = Scene::load("cornell").unwrap();
+        let light = |kind| Light {
+            position: Vec3::new(0.3, 0.5, 0.3),
+            kind,
+            flux: 1.0,
+            color: Vec3::ONE,
+        };
+        let spot = |cone_angle_deg| LightKind::Spot {
+            direction: Vec3::NEG_Y,
+            cone_angle_deg,
+            penumbra_deg: 5.0,
+        };
+        let lights = [
+            light(LightKind::Point),
+            light(spot(30.0)),
+            light(spot(80.0)),
+            light(LightKind::Cosine {
+                direction: Vec3::NEG_Y,
+            }),
+            light(LightKind::Point),
+        ];
+        let (gpu_lights, views) = shadow_views(&scene, &lights, 256);
+        let laid_out: Vec<(u32, u32)> = gpu_lights
+            .iter()
+            .map(|l| (l.shadow[0], l.shadow[1]))
+            .collect();
+        assert_eq!(shadow_view_ranges(&lights), laid_out);
+        assert_eq!(views.len(), 6 + 1 + 5 + 5 + 6);
     }
 }
