@@ -1,5 +1,6 @@
-//! Every method with a size axis (LPV and ILPV: the lattice) per size, the tiled, naive and
-//! column kernels, and one submission against one per part (colour channel) on its queue, timed by vkgi's own GPU
+//! Every method with a size axis (LPV and ILPV: the lattice) per size: the tiled, naive and
+//! column kernels, a dispatch per colour channel against the three fused in one, and one
+//! submission against one per part (colour channel) on its queue, timed by vkgi's own GPU
 //! profiler through the same code as `vkgi profile` (so both print the same numbers).
 //!
 //! cargo bench --bench propagation [-- SIZES FRAMES] [--save-baseline], e.g. `-- 8,16,32,64 10`
@@ -27,13 +28,45 @@ fn main() -> anyhow::Result<()> {
         .filter(|m| m.profile_axis.is_some())
         .collect();
     let variants = [
-        ("tiled, sequential parts", "tiled", SubmitPlan::Sequential),
-        ("naive, sequential parts", "naive", SubmitPlan::Sequential),
-        ("column, sequential parts", "column", SubmitPlan::Sequential),
-        ("tiled, one queue per part", "tiled", SubmitPlan::Async),
+        (
+            "tiled, sequential parts",
+            "tiled",
+            "separate",
+            SubmitPlan::Sequential,
+        ),
+        (
+            "naive, sequential parts",
+            "naive",
+            "separate",
+            SubmitPlan::Sequential,
+        ),
+        (
+            "column, sequential parts",
+            "column",
+            "separate",
+            SubmitPlan::Sequential,
+        ),
+        (
+            "tiled, one queue per part",
+            "tiled",
+            "separate",
+            SubmitPlan::Async,
+        ),
+        (
+            "tiled, channels fused",
+            "tiled",
+            "fused",
+            SubmitPlan::Sequential,
+        ),
+        (
+            "column, channels fused",
+            "column",
+            "fused",
+            SubmitPlan::Sequential,
+        ),
     ];
     let mut summary = Vec::new();
-    for (name, kernel, plan) in variants {
+    for (name, kernel, channels, plan) in variants {
         for method in &methods {
             let Some(axis) = method.profile_axis else {
                 continue;
@@ -42,6 +75,7 @@ fn main() -> anyhow::Result<()> {
                 (axis.to_string(), sizes.clone()),
                 ("iterations".to_string(), vec!["8".to_string()]),
                 ("kernel".to_string(), vec![kernel.to_string()]),
+                ("channel-plan".to_string(), vec![channels.to_string()]),
             ];
             let config = ProfileConfig {
                 scene: "cornell".into(),
@@ -59,17 +93,19 @@ fn main() -> anyhow::Result<()> {
                 summary.push((
                     name,
                     c.label(),
-                    c.core.as_ref().map_or(0.0, |k| k.median_ns),
+                    c.core.as_ref().map_or(0.0, |k| k.ns_per_unit),
                     c.frame_median_ns,
                 ));
             }
         }
     }
-    println!("\n==== summary: median ns per core pass run (one part) and per frame ====");
+    println!(
+        "\n==== summary: median ns of the core pass per unit (cell and channel) and per frame ===="
+    );
     let mut timings = baseline::Timings::new();
     for (name, label, core, frame) in summary {
-        println!("{name:<28} {label:<20}: core {core:>13.0} ns, frame {frame:>13.0} ns");
-        timings.insert(format!("{name}, {label}, core pass"), core);
+        println!("{name:<28} {label:<20}: core {core:>9.2} ns per unit, frame {frame:>13.0} ns");
+        timings.insert(format!("{name}, {label}, core pass per unit"), core);
         timings.insert(format!("{name}, {label}, frame"), frame);
     }
     baseline::finish("propagation", &gpu.info.name, timings)

@@ -7,7 +7,7 @@ use glam::{DVec3, DVec4, Vec3};
 use vkgi::gi::lpv::cpu::{self, StepParams};
 use vkgi::gi::lpv::geometry::{BlockingLobe, GeometryLattice};
 use vkgi::gi::lpv::projected;
-use vkgi::gi::lpv::technique::{FarLattice, IlpvLookup};
+use vkgi::gi::lpv::technique::{ChannelPlan, FarLattice, IlpvLookup};
 use vkgi::gi::lpv::transfer::FaceScheme;
 use vkgi::gi::lpv::two_scale;
 use vkgi::gi::lpv::{Kernel, Lpv, LpvSettings, Scheme};
@@ -151,10 +151,13 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     let scene = Scene::load("cornell").unwrap();
     let steps = 8;
     let mut worst = 0.0f64;
-    // Every kernel does the same arithmetic in the same order: the same bits, whichever runs.
+    // Every kernel does the same arithmetic per channel in the same order, whether a dispatch
+    // carries one channel or three: the same bits, whichever runs.
     let mut first_kernel_results = std::collections::HashMap::new();
+    let kernels = [Kernel::Tiled, Kernel::Naive, Kernel::Column];
+    let plans = [ChannelPlan::Separate, ChannelPlan::Fused];
     for scheme in [Scheme::Ilpv, Scheme::Lpv] {
-        for kernel in [Kernel::Tiled, Kernel::Naive, Kernel::Column] {
+        for (kernel, plan) in kernels.iter().flat_map(|&k| plans.map(|p| (k, p))) {
             for (blocking, blocking_lobe) in [
                 (false, BlockingLobe::Oriented),
                 (true, BlockingLobe::Oriented),
@@ -170,6 +173,7 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
                         lattice: 9,
                         iterations: steps as u32,
                         kernel: Some(kernel),
+                        channels: Some(plan),
                         ilpv_lookup: lookup,
                         blocking_lobe,
                         scattering: if scheme == Scheme::Ilpv { 0.3 } else { 0.0 },
@@ -196,7 +200,10 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
                             first_kernel_results.insert(case, result.clone());
                         }
                         Some(first) => {
-                            assert!(*first == result, "{case}: {kernel:?} differs from tiled")
+                            assert!(
+                                *first == result,
+                                "{case}: {kernel:?} {plan:?} differs from tiled separate"
+                            )
                         }
                     }
                     for c in 0..3 {
@@ -1826,7 +1833,7 @@ fn the_lookup_matches_an_f64_lookup_of_the_same_lattices_with_one_and_two_scales
 }
 
 #[test]
-fn kernel_auto_measures_once_per_device_then_reads_its_cache() {
+fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() {
     let dir = std::env::temp_dir().join(format!("vkgi-lpv-autotune-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let profile = || {
@@ -1848,7 +1855,7 @@ fn kernel_auto_measures_once_per_device_then_reads_its_cache() {
         let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
         let line = stdout
             .lines()
-            .find(|l| l.contains("chosen by --kernel auto"))
+            .find(|l| l.contains("chosen by the autotune"))
             .unwrap_or_else(|| panic!("no autotune line in {stdout}"))
             .to_string();
         let kernel = stdout
@@ -1869,6 +1876,21 @@ fn kernel_auto_measures_once_per_device_then_reads_its_cache() {
         first_kernel.contains(&format!("propagation kernel: {chosen}")),
         "{first_kernel} against the cache's {chosen}"
     );
+    let plan = entry["plan"].as_str().unwrap().to_lowercase();
+    assert!(
+        first_kernel.contains(&format!("channels: {plan}")),
+        "{first_kernel} against the cache's {plan}"
+    );
+    // Every kernel and plan was a candidate, and each line of the profile names its time.
+    assert_eq!(entry["timings"].as_array().unwrap().len(), 4, "{entry}");
+    for candidate in [
+        "tiled separate",
+        "tiled fused",
+        "column separate",
+        "column fused",
+    ] {
+        assert!(first.contains(&format!("{candidate} ")), "{first}");
+    }
     let (second, second_kernel) = profile();
     assert!(second.contains("cached in"), "{second}");
     assert_eq!(first_kernel, second_kernel);

@@ -36,6 +36,9 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
         "4,8",
         "--iterations",
         "2",
+        // A dispatch per colour channel: the parts R, G, B below.
+        "--channel-plan",
+        "separate",
         "--frames",
         "2",
         "--warmup",

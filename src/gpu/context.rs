@@ -149,6 +149,8 @@ pub struct DeviceInfo {
     pub max_image_dimension_2d: u32,
     pub max_image_dimension_3d: u32,
     pub max_storage_buffer_range: u32,
+    /// The most texels a texel-buffer view may hold (maxTexelBufferElements).
+    pub max_texel_buffer_elements: u32,
     pub max_push_constants_size: u32,
     pub max_image_array_layers: u32,
     /// Largest single memory allocation the device supports (maxMemoryAllocationSize).
@@ -818,6 +820,7 @@ fn create_device(
         max_image_dimension_2d: limits.max_image_dimension2_d,
         max_image_dimension_3d: limits.max_image_dimension3_d,
         max_storage_buffer_range: limits.max_storage_buffer_range,
+        max_texel_buffer_elements: limits.max_texel_buffer_elements,
         max_push_constants_size: limits.max_push_constants_size,
         max_image_array_layers: limits.max_image_array_layers,
         max_memory_allocation_size: maintenance3.max_memory_allocation_size,

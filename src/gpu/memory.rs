@@ -27,6 +27,9 @@ pub struct BufferDesc<'a> {
     pub size: u64,
     pub usage: vk::BufferUsageFlags,
     pub location: MemoryLocation,
+    /// The format of a texel view over the whole buffer, for shaders that read it with texel
+    /// fetches (a uniform texel buffer); None for none.
+    pub texels: Option<vk::Format>,
 }
 
 impl<'a> BufferDesc<'a> {
@@ -39,6 +42,16 @@ impl<'a> BufferDesc<'a> {
                 | vk::BufferUsageFlags::TRANSFER_DST
                 | vk::BufferUsageFlags::TRANSFER_SRC,
             location: MemoryLocation::GpuOnly,
+            texels: None,
+        }
+    }
+
+    /// A storage buffer that shaders may also read as `vec4` texels (a uniform texel buffer of
+    /// RGBA32F over the whole buffer).
+    pub fn storage_texels(name: &'a str, size: u64) -> Self {
+        BufferDesc {
+            texels: Some(vk::Format::R32G32B32A32_SFLOAT),
+            ..BufferDesc::storage(name, size)
         }
     }
 }
@@ -50,6 +63,8 @@ pub struct Buffer {
     pub size: u64,
     pub name: String,
     pub(crate) sync: Cell<SyncState>,
+    /// The texel view over the whole buffer, where its description asked for one.
+    pub(crate) texel_view: Option<vk::BufferView>,
 }
 
 impl Buffer {
@@ -98,9 +113,14 @@ impl Drop for Buffer {
         {
             let _ = allocator.free(allocation);
         }
-        // SAFETY: the owner guarantees the GPU no longer uses the buffer (frames are waited on
-        // before resources are dropped).
-        unsafe { self.shared.device.destroy_buffer(self.raw, None) };
+        // SAFETY: the owner guarantees the GPU no longer uses the buffer or its view (frames are
+        // waited on before resources are dropped); the view goes before the buffer.
+        unsafe {
+            if let Some(view) = self.texel_view.take() {
+                self.shared.device.destroy_buffer_view(view, None);
+            }
+            self.shared.device.destroy_buffer(self.raw, None)
+        };
     }
 }
 
@@ -229,9 +249,16 @@ impl Gpu {
     pub fn create_buffer(&self, desc: &BufferDesc) -> GpuResult<Buffer> {
         let device = &self.shared.device;
         let families = self.queues.families();
+        let texel_usage = match desc.texels {
+            Some(format) => {
+                self.check_texel_count(desc, format)?;
+                vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+            }
+            None => vk::BufferUsageFlags::empty(),
+        };
         let mut info = vk::BufferCreateInfo::default()
             .size(desc.size.max(4))
-            .usage(desc.usage);
+            .usage(desc.usage | texel_usage);
         info = if families.len() > 1 {
             info.sharing_mode(vk::SharingMode::CONCURRENT)
                 .queue_family_indices(&families)
@@ -256,14 +283,51 @@ impl Gpu {
         unsafe { device.bind_buffer_memory(raw, allocation.memory(), allocation.offset()) }
             .map_err(vk_err(&format!("binding memory of buffer '{}'", desc.name)))?;
         self.shared.set_name(raw, desc.name);
-        Ok(Buffer {
+        let mut buffer = Buffer {
             shared: self.shared.clone(),
             raw,
             allocation: Some(allocation),
             size: desc.size,
             name: desc.name.to_string(),
             sync: Cell::new(SyncState::default()),
-        })
+            texel_view: None,
+        };
+        if let Some(format) = desc.texels {
+            let info = vk::BufferViewCreateInfo::default()
+                .buffer(raw)
+                .format(format)
+                .offset(0)
+                .range(vk::WHOLE_SIZE);
+            // SAFETY: the buffer is bound to memory and was created with texel-buffer usage; the
+            // view is destroyed before the buffer in Buffer::drop.
+            let view = unsafe { device.create_buffer_view(&info, None) }.map_err(vk_err(
+                &format!("creating the texel view of buffer '{}'", desc.name),
+            ))?;
+            buffer.texel_view = Some(view);
+        }
+        Ok(buffer)
+    }
+
+    /// Refuse a texel view with more texels than the device's maxTexelBufferElements.
+    fn check_texel_count(&self, desc: &BufferDesc, format: vk::Format) -> GpuResult<()> {
+        let texel_bytes = match format {
+            vk::Format::R32G32B32A32_SFLOAT => 16,
+            other => {
+                return Err(GpuError::Setup(format!(
+                    "buffer '{}': texel views of {other:?} are not supported",
+                    desc.name
+                )));
+            }
+        };
+        let texels = desc.size / texel_bytes;
+        let limit = u64::from(self.info.max_texel_buffer_elements);
+        if texels > limit {
+            return Err(GpuError::Setup(format!(
+                "buffer '{}' holds {texels} texels, more than the device's limit of {limit} in a texel buffer",
+                desc.name
+            )));
+        }
+        Ok(())
     }
 
     pub fn create_image(&self, desc: &ImageDesc) -> GpuResult<Image> {
@@ -416,6 +480,7 @@ impl Gpu {
             size: data.len() as u64,
             usage: usage | vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuOnly,
+            texels: None,
         })?;
         if !data.is_empty() {
             self.write_buffer(&buffer, data)?;
@@ -458,6 +523,7 @@ impl Gpu {
                 | vk::BufferUsageFlags::TRANSFER_SRC
                 | vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuOnly,
+            texels: None,
         })?;
         let staging_name = format!("{name} (staging)");
         let mut staging = self.create_buffer(&BufferDesc {
@@ -465,6 +531,7 @@ impl Gpu {
             size: buffer.size,
             usage: vk::BufferUsageFlags::TRANSFER_SRC,
             location: MemoryLocation::CpuToGpu,
+            texels: None,
         })?;
         const CHUNK: usize = 1 << 14;
         let mut chunk: Vec<T> = Vec::with_capacity(CHUNK.min(count));
@@ -493,6 +560,7 @@ impl Gpu {
             size: data.len() as u64,
             usage: vk::BufferUsageFlags::TRANSFER_SRC,
             location: MemoryLocation::CpuToGpu,
+            texels: None,
         })?;
         staging.write_mapped(0, data)?;
         self.one_shot(|rec| {
@@ -509,6 +577,7 @@ impl Gpu {
             size: buffer.size,
             usage: vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuToCpu,
+            texels: None,
         })?;
         self.one_shot(|rec| {
             rec.copy_buffer("readback", buffer, &staging, buffer.size);
@@ -530,6 +599,7 @@ impl Gpu {
             size: bytes,
             usage: vk::BufferUsageFlags::TRANSFER_DST,
             location: MemoryLocation::GpuToCpu,
+            texels: None,
         })?;
         self.one_shot(|rec| {
             rec.copy_image_to_buffer("readback", image, &staging);

@@ -181,6 +181,11 @@ pub enum Binding<'r> {
         image: &'r Image,
         sampler: vk::Sampler,
     },
+    /// A buffer read with texel fetches through its texel view (`samplerBuffer`).
+    Texels {
+        binding: u32,
+        buffer: &'r Buffer,
+    },
 }
 
 impl<'r> Binding<'r> {
@@ -223,12 +228,19 @@ impl<'r> Binding<'r> {
         }
     }
 
+    /// A buffer made with a texel view ([`super::BufferDesc::storage_texels`]), read with
+    /// texel fetches.
+    pub fn texels(binding: u32, buffer: &'r Buffer) -> Self {
+        Binding::Texels { binding, buffer }
+    }
+
     fn number(&self) -> u32 {
         match self {
             Binding::StorageBuffer { binding, .. }
             | Binding::UniformBuffer { binding, .. }
             | Binding::StorageImage { binding, .. }
-            | Binding::SampledImage { binding, .. } => *binding,
+            | Binding::SampledImage { binding, .. }
+            | Binding::Texels { binding, .. } => *binding,
         }
     }
 
@@ -238,7 +250,9 @@ impl<'r> Binding<'r> {
             Binding::StorageBuffer { write, .. } | Binding::StorageImage { write, .. } => {
                 Some(*write)
             }
-            Binding::UniformBuffer { .. } | Binding::SampledImage { .. } => None,
+            Binding::UniformBuffer { .. }
+            | Binding::SampledImage { .. }
+            | Binding::Texels { .. } => None,
         }
     }
 
@@ -248,6 +262,7 @@ impl<'r> Binding<'r> {
             Binding::UniformBuffer { .. } => DescriptorKind::UniformBuffer,
             Binding::StorageImage { .. } => DescriptorKind::StorageImage,
             Binding::SampledImage { .. } => DescriptorKind::CombinedImageSampler,
+            Binding::Texels { .. } => DescriptorKind::UniformTexelBuffer,
         }
     }
 }
@@ -535,6 +550,14 @@ impl<'a> Recorder<'a> {
             if bindings.iter().filter(|o| o.number() == number).count() > 1 {
                 return Err(fail(format!("binding {number} is bound twice")));
             }
+            if let Binding::Texels { buffer, .. } = b
+                && buffer.texel_view.is_none()
+            {
+                return Err(fail(format!(
+                    "binding {number} reads buffer '{}' as texels, but it was made without a texel view",
+                    buffer.name
+                )));
+            }
             if let Some(declared_write) = b.declared_write() {
                 let writable = interface.writable.contains(&number);
                 if writable && !declared_write {
@@ -587,6 +610,7 @@ impl<'a> Recorder<'a> {
                     image, write: w, ..
                 } => (Resource::Image(image), if *w { write } else { read }),
                 Binding::SampledImage { image, .. } => (Resource::Image(image), sampled),
+                Binding::Texels { buffer, .. } => (Resource::Buffer(buffer), sampled),
             })
             .collect()
     }
@@ -594,6 +618,7 @@ impl<'a> Recorder<'a> {
     fn bind(&self, core: &PipelineCore, bindings: &[Binding], push: &[u8]) {
         let mut buffer_infos = Vec::with_capacity(bindings.len());
         let mut image_infos = Vec::with_capacity(bindings.len());
+        let mut texel_views = Vec::with_capacity(bindings.len());
         for b in bindings {
             match b {
                 Binding::StorageBuffer { buffer, .. } | Binding::UniformBuffer { buffer, .. } => {
@@ -615,9 +640,13 @@ impl<'a> Recorder<'a> {
                         image_layout: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                     })
                 }
+                // check_interface refused a buffer without a view.
+                Binding::Texels { buffer, .. } => {
+                    texel_views.push(buffer.texel_view.unwrap_or_default())
+                }
             }
         }
-        let (mut next_buffer, mut next_image) = (0, 0);
+        let (mut next_buffer, mut next_image, mut next_texels) = (0, 0, 0);
         let writes: Vec<vk::WriteDescriptorSet> = bindings
             .iter()
             .map(|b| {
@@ -646,6 +675,12 @@ impl<'a> Recorder<'a> {
                         write
                             .descriptor_type(ty)
                             .image_info(std::slice::from_ref(&image_infos[next_image - 1]))
+                    }
+                    Binding::Texels { .. } => {
+                        next_texels += 1;
+                        write
+                            .descriptor_type(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                            .texel_buffer_view(std::slice::from_ref(&texel_views[next_texels - 1]))
                     }
                 }
             })

@@ -98,6 +98,8 @@ fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
         DescriptorKind::SampledImage => vk::DescriptorType::SAMPLED_IMAGE,
         DescriptorKind::CombinedImageSampler => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
         DescriptorKind::Sampler => vk::DescriptorType::SAMPLER,
+        DescriptorKind::UniformTexelBuffer => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+        DescriptorKind::StorageTexelBuffer => vk::DescriptorType::STORAGE_TEXEL_BUFFER,
     }
 }
 

@@ -14,6 +14,10 @@ pub enum DescriptorKind {
     SampledImage,
     CombinedImageSampler,
     Sampler,
+    /// A buffer read through a typed view with texel fetches (`samplerBuffer`).
+    UniformTexelBuffer,
+    /// A buffer read and written through a typed view (`imageBuffer`).
+    StorageTexelBuffer,
 }
 
 impl DescriptorKind {
@@ -25,6 +29,8 @@ impl DescriptorKind {
             DescriptorKind::SampledImage => "sampled image",
             DescriptorKind::CombinedImageSampler => "combined image sampler",
             DescriptorKind::Sampler => "sampler",
+            DescriptorKind::UniformTexelBuffer => "uniform texel buffer",
+            DescriptorKind::StorageTexelBuffer => "storage texel buffer",
         }
     }
 }
@@ -110,6 +116,8 @@ const DECORATION_BINDING: u32 = 33;
 const DECORATION_DESCRIPTOR_SET: u32 = 34;
 const DECORATION_OFFSET: u32 = 35;
 
+const DIM_BUFFER: u32 = 5;
+
 const BUILTIN_WORKGROUP_SIZE: u32 = 25;
 const MODE_LOCAL_SIZE: u32 = 17;
 const MODE_LOCAL_SIZE_ID: u32 = 38;
@@ -124,9 +132,9 @@ enum Type {
     Scalar { bytes: u32 },
     Vector { component: u32, count: u32 },
     Matrix { column: u32, count: u32 },
-    Image { sampled: u32 },
+    Image { sampled: u32, dim: u32 },
     Sampler,
-    SampledImage,
+    SampledImage { image: u32 },
     Array { element: u32, length_id: u32 },
     RuntimeArray,
     Struct { members: Vec<u32> },
@@ -192,13 +200,19 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
                 );
             }
             OP_TYPE_IMAGE => {
-                types.insert(op[0], Type::Image { sampled: op[6] });
+                types.insert(
+                    op[0],
+                    Type::Image {
+                        sampled: op[6],
+                        dim: op[2],
+                    },
+                );
             }
             OP_TYPE_SAMPLER => {
                 types.insert(op[0], Type::Sampler);
             }
             OP_TYPE_SAMPLED_IMAGE => {
-                types.insert(op[0], Type::SampledImage);
+                types.insert(op[0], Type::SampledImage { image: op[1] });
             }
             OP_TYPE_ARRAY => {
                 types.insert(
@@ -320,9 +334,18 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
                 _ => DescriptorKind::UniformBuffer,
             },
             STORAGE_UNIFORM_CONSTANT => match types.get(&pointee) {
-                Some(Type::Image { sampled: 2 }) => DescriptorKind::StorageImage,
-                Some(Type::Image { .. }) => DescriptorKind::SampledImage,
-                Some(Type::SampledImage) => DescriptorKind::CombinedImageSampler,
+                Some(&Type::Image { sampled, dim }) => match (sampled, dim) {
+                    (2, DIM_BUFFER) => DescriptorKind::StorageTexelBuffer,
+                    (_, DIM_BUFFER) => DescriptorKind::UniformTexelBuffer,
+                    (2, _) => DescriptorKind::StorageImage,
+                    _ => DescriptorKind::SampledImage,
+                },
+                Some(Type::SampledImage { image }) => match types.get(image) {
+                    Some(Type::Image {
+                        dim: DIM_BUFFER, ..
+                    }) => DescriptorKind::UniformTexelBuffer,
+                    _ => DescriptorKind::CombinedImageSampler,
+                },
                 Some(Type::Sampler) => DescriptorKind::Sampler,
                 Some(Type::Array { .. }) | Some(Type::RuntimeArray) => {
                     return Err(format!(
@@ -355,7 +378,9 @@ pub fn reflect(words: &[u32]) -> Result<ShaderInterface, String> {
             };
         let storage_kind = matches!(
             kind,
-            DescriptorKind::StorageBuffer | DescriptorKind::StorageImage
+            DescriptorKind::StorageBuffer
+                | DescriptorKind::StorageImage
+                | DescriptorKind::StorageTexelBuffer
         );
         if storage_kind && !read_only {
             interface.writable.push(binding);
@@ -503,6 +528,43 @@ mod tests {
                 (3, DescriptorKind::StorageImage)
             ]
         );
+    }
+
+    #[test]
+    fn texel_buffers_are_told_from_images() {
+        // %1 = float; %2 = image Buffer sampled, %3 = sampledimage %2 (samplerBuffer) at binding
+        // 0; %6 = image Buffer storage (imageBuffer) at binding 1; %9 = image 2D sampled,
+        // %10 = sampledimage %9 (sampler2D) at binding 2.
+        let words = spirv(&[
+            &[OP_DECORATE, 5, DECORATION_BINDING, 0],
+            &[OP_DECORATE, 8, DECORATION_BINDING, 1],
+            &[OP_DECORATE, 12, DECORATION_BINDING, 2],
+            &[OP_TYPE_FLOAT, 1, 32],
+            &[OP_TYPE_IMAGE, 2, 1, DIM_BUFFER, 0, 0, 0, 1, 0],
+            &[OP_TYPE_SAMPLED_IMAGE, 3, 2],
+            &[OP_TYPE_POINTER, 4, STORAGE_UNIFORM_CONSTANT, 3],
+            &[OP_VARIABLE, 4, 5, STORAGE_UNIFORM_CONSTANT],
+            &[OP_TYPE_IMAGE, 6, 1, DIM_BUFFER, 0, 0, 0, 2, 1],
+            &[OP_TYPE_POINTER, 7, STORAGE_UNIFORM_CONSTANT, 6],
+            &[OP_VARIABLE, 7, 8, STORAGE_UNIFORM_CONSTANT],
+            &[OP_TYPE_IMAGE, 9, 1, 1, 0, 0, 0, 1, 0],
+            &[OP_TYPE_SAMPLED_IMAGE, 10, 9],
+            &[OP_TYPE_POINTER, 11, STORAGE_UNIFORM_CONSTANT, 10],
+            &[OP_VARIABLE, 11, 12, STORAGE_UNIFORM_CONSTANT],
+        ]);
+        let i = match reflect(&words) {
+            Ok(i) => i,
+            Err(e) => panic!("reflection failed: {e}"),
+        };
+        assert_eq!(
+            i.bindings,
+            vec![
+                (0, DescriptorKind::UniformTexelBuffer),
+                (1, DescriptorKind::StorageTexelBuffer),
+                (2, DescriptorKind::CombinedImageSampler)
+            ]
+        );
+        assert_eq!(i.writable, vec![1], "a storage texel buffer may be written");
     }
 
     #[test]

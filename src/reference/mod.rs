@@ -267,6 +267,7 @@ impl PathTracer {
                 size: bytes,
                 usage: vk::BufferUsageFlags::TRANSFER_DST,
                 location: MemoryLocation::GpuToCpu,
+                texels: None,
             })
         };
         let camera = scene.camera.position;

@@ -98,6 +98,7 @@ impl Overlay {
                 size: bytes,
                 usage: ash::vk::BufferUsageFlags::STORAGE_BUFFER,
                 location: MemoryLocation::CpuToGpu,
+                texels: None,
             })?);
         }
         Ok(Overlay {

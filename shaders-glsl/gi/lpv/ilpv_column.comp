@@ -1,6 +1,9 @@
 #version 460
-// 26-neighbour ILPV step, a column of cells along z per thread, sources kept in registers.
+// 26-neighbour ILPV step, one colour channel, a column of cells along z per thread, sources kept in
+// registers and read as texels.
+#define CHANNELS 1
 #define LPV_TILED 0
 #define LPV_COLUMN 1
+#define LPV_TEXELS 1
 #define COLUMN_FACES_ONLY 0
 #include "gi/lpv/ilpv_step.glsl"

@@ -1,5 +1,9 @@
 #version 460
-// 26-neighbour ILPV step, sources read straight from global memory (for comparison).
-#define LPV_COLUMN 0
+// 26-neighbour ILPV step, one colour channel, sources read straight from global memory (for
+// comparison).
+#define CHANNELS 1
 #define LPV_TILED 0
+#define LPV_COLUMN 0
+#define LPV_TEXELS 0
+#define COLUMN_FACES_ONLY 0
 #include "gi/lpv/ilpv_step.glsl"

@@ -1,10 +1,9 @@
-// One 26-neighbour ILPV gather step for one colour channel (seed 000, Listing 5.2/5.3): each
-// destination cell gathers from its 26 neighbours, with absorption and scattering, blocking by
-// the source cell's geometry (blocking.glsl), negative transfers clamped to zero (the
-// transported light alone: the in-scattered light adds to it, see cpu.rs). src/gi/lpv/cpu.rs step_26
-// is the same in f64. With `accumulate`, the result is also summed into the accumulation
-// lattice the lookup reads. Included by lpv/ilpv_tiled.comp, lpv/ilpv_naive.comp and
-// lpv/ilpv_column.comp.
+// One 26-neighbour ILPV gather step for one colour channel, or all three (CHANNELS, cells.glsl)
+// (seed 000, Listing 5.2/5.3): each destination cell gathers from its 26 neighbours, with
+// absorption and scattering, blocking by the source cell's geometry (blocking.glsl), negative
+// transfers clamped to zero (the transported light alone: the in-scattered light adds to it,
+// see cpu.rs). src/gi/lpv/cpu.rs step_26 is the same in f64. With `accumulate`, the result is also summed into the accumulation
+// lattice the lookup reads. Included by lpv/ilpv_{tiled,naive,column}{,_rgb}.comp.
 
 #extension GL_EXT_control_flow_attributes : require
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -15,11 +14,7 @@ struct Neighbour {
     float outscatter; // γ_j
 };
 
-layout(binding = ILPV_SOURCE, std430) readonly buffer Source { vec4 source_cells[]; };
-layout(binding = ILPV_DESTINATION, std430) writeonly buffer Destination { vec4 destination_cells[]; };
-layout(binding = ILPV_ACCUMULATION, std430) buffer Accumulation { vec4 accumulation_cells[]; };
-layout(binding = ILPV_GEOMETRY, std430) readonly buffer Geometry { vec4 geometry_cells[]; };
-layout(binding = ILPV_NEIGHBOURS, std140) uniform Neighbours { Neighbour neighbours[26]; };
+layout(binding = STEP_CONSTANTS, std140) uniform Neighbours { Neighbour neighbours[26]; };
 
 layout(push_constant) uniform Push {
     ivec4 dims;
@@ -37,28 +32,31 @@ ivec3 neighbour_offset(int d) {
     return ivec3(i % 3, (i / 3) % 3, i / 9) - 1;
 }
 
-// The gathered light of `cell` from its 26 neighbours.
-vec4 gather(ivec3 cell) {
+// The gathered light of `cell` from its 26 neighbours, in every channel the step carries (the
+// blocking, which depends on the geometry alone, once for all of them).
+Light gather(ivec3 cell) {
     GeometryWords own_geometry = source_geometry(cell, ivec3(0));
-    vec4 dst = vec4(0.0);
+    Light dst = no_light();
     // Unrolled: every neighbour offset (the same x-fastest order as transfer.rs) is a constant.
     [[unroll]] for (int d = 0; d < 26; ++d) {
         Neighbour n = neighbours[d];
         ivec3 offset = neighbour_offset(d);
-        vec4 src = source_light(cell, -offset);
         float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, n.transfer, offset);
-        float outscattered = src.x * pc.scatter_energy;
         float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
-        float factor = (max(pc.keep * dot(src, n.transfer), 0.0) + outscattered * n.outscatter) * blocking;
-        dst += n.transfer * factor;
+        [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
+            vec4 src = source_light(cell, -offset, c);
+            float outscattered = src.x * pc.scatter_energy;
+            float factor = (max(pc.keep * dot(src, n.transfer), 0.0) + outscattered * n.outscatter) * blocking;
+            dst.c[c] += n.transfer * factor;
+        }
     }
     return dst;
 }
 
-void store(ivec3 cell, vec4 dst) {
+void store(ivec3 cell, Light dst) {
     uint i = lattice_index(cell, pc.dims.xyz);
-    destination_cells[i] = dst;
-    if (pc.accumulate != 0u) accumulation_cells[i] += dst;
+    store_light(i, dst);
+    if (pc.accumulate != 0u) accumulate_light(i, dst);
 }
 
 #include "gi/lpv/step_main.glsl"

@@ -1,13 +1,13 @@
-// One classic LPV step for one colour channel (Kaplanyan & Dachsbacher 2010): from each of the 6
-// face neighbours, the flux through the 5 faces of this cell other than the shared one
-// (Ω_f times the source's intensity toward the face centre), re-emitted as a cosine lobe around
-// the face normal; the step's result is also added to the accumulation lattice. Blocking
+// One classic LPV step for one colour channel, or all three (CHANNELS, cells.glsl) (Kaplanyan &
+// Dachsbacher 2010): from each of the 6 face neighbours, the flux through the 5 faces of this
+// cell other than the shared one (Ω_f times the source's intensity toward the face centre),
+// re-emitted as a cosine lobe around the face normal; the step's result is also added to the accumulation lattice. Blocking
 // (blocking.glsl): the thesis's SH lobes use the mean geometry of source and destination (the
 // shared face, as KD10's half-cell-offset geometry volume); the projected-area models the
 // source's, like ILPV: light crosses a wall in the cell that holds it, a one-way wall blocks
 // light leaving through it and not light on its way to it; visibility the segment between the
 // two centres. src/gi/lpv/cpu.rs step_6 is the same in f64.
-// Included by lpv/lpv_tiled.comp, lpv/lpv_naive.comp and lpv/lpv_column.comp.
+// Included by lpv/lpv_{tiled,naive,column}{,_rgb}.comp.
 
 #extension GL_EXT_control_flow_attributes : require
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -23,11 +23,7 @@ struct Axis {
     Face faces[5];
 };
 
-layout(binding = LPV_SOURCE, std430) readonly buffer Source { vec4 source_cells[]; };
-layout(binding = LPV_DESTINATION, std430) writeonly buffer Destination { vec4 destination_cells[]; };
-layout(binding = LPV_ACCUMULATION, std430) buffer Accumulation { vec4 accumulation_cells[]; };
-layout(binding = LPV_GEOMETRY, std430) readonly buffer Geometry { vec4 geometry_cells[]; };
-layout(binding = LPV_AXES, std140) uniform Axes { Axis axes[6]; };
+layout(binding = STEP_CONSTANTS, std140) uniform Axes { Axis axes[6]; };
 
 layout(push_constant) uniform Push {
     ivec4 dims;
@@ -43,30 +39,33 @@ ivec3 axis_offset(int a) {
     return a % 2 == 0 ? unit : -unit;
 }
 
-// The light `cell` gathers through its faces from its 6 face neighbours.
-vec4 gather(ivec3 cell) {
+// The light `cell` gathers through its faces from its 6 face neighbours, in every channel the
+// step carries (the blocking, which depends on the geometry alone, once for all of them).
+Light gather(ivec3 cell) {
     GeometryWords own_geometry = source_geometry(cell, ivec3(0));
-    vec4 dst = vec4(0.0);
+    Light dst = no_light();
     [[unroll]] for (int a = 0; a < 6; ++a) {
         ivec3 offset = axis_offset(a);
-        vec4 src = source_light(cell, -offset);
         GeometryWords source = source_geometry(cell, -offset);
         GeometryWords blocker = source;
         if (GEOMETRY_WORDS == 1u) blocker = mean_geometry(source, own_geometry);
         float blocked = blocking_of(blocker, own_geometry, axes[a].blocking_transfer, offset);
         float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
-        [[unroll]] for (int f = 0; f < 5; ++f) {
-            float flux = max(dot(src, axes[a].faces[f].evaluation), 0.0) * blocking;
-            dst += axes[a].faces[f].lobe * flux;
+        [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
+            vec4 src = source_light(cell, -offset, c);
+            [[unroll]] for (int f = 0; f < 5; ++f) {
+                float flux = max(dot(src, axes[a].faces[f].evaluation), 0.0) * blocking;
+                dst.c[c] += axes[a].faces[f].lobe * flux;
+            }
         }
     }
     return dst;
 }
 
-void store(ivec3 cell, vec4 dst) {
+void store(ivec3 cell, Light dst) {
     uint i = lattice_index(cell, pc.dims.xyz);
-    destination_cells[i] = dst;
-    accumulation_cells[i] += dst;
+    store_light(i, dst);
+    accumulate_light(i, dst);
 }
 
 #include "gi/lpv/step_main.glsl"

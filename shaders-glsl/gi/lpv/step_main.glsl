@@ -1,8 +1,8 @@
 #ifndef VKGI_LPV_STEP_MAIN_GLSL
 #define VKGI_LPV_STEP_MAIN_GLSL
-// The entry point of a propagation step: the including step defines `vec4 gather(ivec3 cell)`
+// The entry point of a propagation step: the including step defines `Light gather(ivec3 cell)`
 // (the cell's new light from its sources, read through tile.glsl) and
-// `void store(ivec3 cell, vec4 light)`; tile.glsl's mode decides how cells are walked.
+// `void store(ivec3 cell, Light light)`; tile.glsl's mode decides how cells are walked.
 
 void main() {
 #if LPV_COLUMN

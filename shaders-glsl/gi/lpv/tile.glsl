@@ -1,11 +1,12 @@
 #ifndef VKGI_LPV_TILE_GLSL
 #define VKGI_LPV_TILE_GLSL
-// Where a propagation step reads its source cells. The including shader defines LPV_TILED and
-// LPV_COLUMN (one of them 1, or neither for the naive kernel) and COLUMN_FACES_ONLY (1 when the
-// step reads only face neighbours), declares the buffers `source_cells` (vec4 per cell) and
-// `geometry_cells` (GEOMETRY_WORDS vec4 per cell, blocking.glsl) and a push-constant block `pc`
-// with `ivec4 dims`; step_main.glsl walks the cells (tiled: prepare_sources() first, in uniform
-// control flow; column: load_plane() and advance_column() along the column).
+// How a propagation step walks its cells and reads their sources. The including shader defines
+// LPV_TILED and LPV_COLUMN (one of them 1, or neither for the naive kernel), COLUMN_FACES_ONLY
+// (1 when the step reads only face neighbours) and what cells.glsl asks for, and a
+// push-constant block `pc` with `ivec4 dims`; step_main.glsl walks the cells (tiled:
+// prepare_sources() first, in uniform control flow; column: load_plane() and advance_column()
+// along the column). Each reader gives source_light(cell, offset, channel) and
+// source_geometry(cell, offset).
 //
 // Tiled: the workgroup (one tile of cells) loads its cells plus a one-cell halo of light and
 // geometry into shared memory, zero outside the lattice. Shared memory is laid out [x][y][z]
@@ -13,12 +14,7 @@
 // their stride odd and spreads them over the banks (the thesis's CUDA kernel: padding z, and
 // only z, removed the bank conflicts).
 #include "gi/lpv/lattice.glsl"
-#include "gi/lpv/blocking.glsl"
-
-// Word `w` of the geometry of lattice cell `k`.
-vec4 stored_geometry(uint k, uint w) {
-    return geometry_cells[k * GEOMETRY_WORDS + w];
-}
+#include "gi/lpv/cells.glsl"
 
 #if LPV_TILED
 layout(constant_id = 3) const uint Z_PAD = 1u;
@@ -26,7 +22,7 @@ const uint TILE_X = gl_WorkGroupSize.x + 2u;
 const uint TILE_Y = gl_WorkGroupSize.y + 2u;
 const uint TILE_Z = gl_WorkGroupSize.z + 2u;
 const uint TILE_CELLS = TILE_X * TILE_Y * TILE_Z;
-shared vec4 tile_light[TILE_X * TILE_Y * (TILE_Z + Z_PAD)];
+shared vec4 tile_light[TILE_X * TILE_Y * (TILE_Z + Z_PAD) * CHANNELS];
 shared vec4 tile_geometry[TILE_X * TILE_Y * (TILE_Z + Z_PAD) * GEOMETRY_WORDS];
 
 uint tile_index(ivec3 t) {
@@ -41,7 +37,9 @@ void prepare_sources() {
         ivec3 g = origin + t - 1;
         bool inside = lattice_inside(g, pc.dims.xyz);
         uint k = inside ? lattice_index(g, pc.dims.xyz) : 0u;
-        tile_light[tile_index(t)] = inside ? source_cells[k] : vec4(0.0);
+        [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
+            tile_light[tile_index(t) * CHANNELS + c] = inside ? stored_light(k, c) : vec4(0.0);
+        }
         for (uint w = 0u; w < GEOMETRY_WORDS; ++w) {
             tile_geometry[tile_index(t) * GEOMETRY_WORDS + w] =
                 inside ? stored_geometry(k, w) : vec4(0.0);
@@ -50,8 +48,8 @@ void prepare_sources() {
     barrier();
 }
 
-vec4 source_light(ivec3 cell, ivec3 offset) {
-    return tile_light[tile_index(ivec3(gl_LocalInvocationID) + 1 + offset)];
+vec4 source_light(ivec3 cell, ivec3 offset, int c) {
+    return tile_light[tile_index(ivec3(gl_LocalInvocationID) + 1 + offset) * CHANNELS + c];
 }
 
 GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
@@ -65,7 +63,7 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
 // of source cells around its cell in registers (slots indexed by constant offsets once the
 // neighbour loop is unrolled): a step loads only the 9 cells of the plane ahead.
 layout(constant_id = 5) const uint COLUMN = 8u;
-vec4 column_light[27];
+vec4 column_light[27 * CHANNELS];
 GeometryWords column_geometry[27];
 
 uint column_slot(ivec3 offset) {
@@ -83,7 +81,9 @@ void load_plane(ivec3 cell, int dz) {
             bool inside = wanted && lattice_inside(c, pc.dims.xyz);
             uint k = inside ? lattice_index(c, pc.dims.xyz) : 0u;
             uint slot = column_slot(ivec3(dx, dy, dz));
-            column_light[slot] = inside ? source_cells[k] : vec4(0.0);
+            [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
+                column_light[slot * CHANNELS + ch] = inside ? stored_light(k, ch) : vec4(0.0);
+            }
             GeometryWords g = no_geometry();
             for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
             column_geometry[slot] = g;
@@ -94,13 +94,15 @@ void load_plane(ivec3 cell, int dz) {
 // Move the block one cell along +z: the planes at dz = 0 and 1 become those at -1 and 0.
 void advance_column() {
     [[unroll]] for (int slot = 0; slot < 18; ++slot) {
-        column_light[slot] = column_light[slot + 9];
+        [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
+            column_light[slot * CHANNELS + c] = column_light[(slot + 9) * CHANNELS + c];
+        }
         column_geometry[slot] = column_geometry[slot + 9];
     }
 }
 
-vec4 source_light(ivec3 cell, ivec3 offset) {
-    return column_light[column_slot(offset)];
+vec4 source_light(ivec3 cell, ivec3 offset, int c) {
+    return column_light[column_slot(offset) * CHANNELS + c];
 }
 
 GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
@@ -109,9 +111,10 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
 #else
 void prepare_sources() {}
 
-vec4 source_light(ivec3 cell, ivec3 offset) {
+vec4 source_light(ivec3 cell, ivec3 offset, int channel) {
     ivec3 c = cell + offset;
-    return lattice_inside(c, pc.dims.xyz) ? source_cells[lattice_index(c, pc.dims.xyz)] : vec4(0.0);
+    return lattice_inside(c, pc.dims.xyz) ? stored_light(lattice_index(c, pc.dims.xyz), channel)
+                                          : vec4(0.0);
 }
 
 GeometryWords source_geometry(ivec3 cell, ivec3 offset) {

@@ -240,6 +240,7 @@ impl Passes {
                 size: state_bytes,
                 usage: vk::BufferUsageFlags::TRANSFER_DST,
                 location: MemoryLocation::GpuToCpu,
+                texels: None,
             })?,
             tables: gpu.upload_storage_items("ic hemisphere tables", texels.len(), |i| texels[i])?,
             hemisphere,

@@ -1,43 +1,58 @@
-//! `--kernel auto`: which propagation kernel runs is measured on the device, once, and kept.
+//! `--kernel auto` and `--channel-plan auto`: which propagation kernel runs, and whether a dispatch
+//! carries one colour channel or all three, is measured on the device, once, and kept.
 //!
 //! The tiled kernel (a shared-memory tile per workgroup) suits GPUs; the column kernel (a
-//! column of cells per thread, its sources in registers) suits CPU devices such as lavapipe,
-//! where every load is made lane by lane. Both do the same arithmetic in the same order, and on
-//! lavapipe give the same bits (tests/lpv.rs asserts it), so there the choice changes only speed.
-//! A driver that contracted the two modules' arithmetic differently could differ in the last
-//! bits; a CAVE whose nodes must agree bit for bit can pin `--kernel`.
+//! column of cells per thread, its sources in registers and read as texels) suits CPU devices
+//! such as lavapipe, where every storage-buffer load is made lane by lane. A fused dispatch of
+//! the three channels reads the geometry and evaluates the blocking once; separate dispatches
+//! are three parts that a device with three compute queues can overlap. All do the same
+//! arithmetic per channel in the same order, and on lavapipe give the same bits (tests/lpv.rs
+//! asserts it), so there the choice changes only speed. A driver that contracted the modules'
+//! arithmetic differently could differ in the last bits; a CAVE whose nodes must agree bit for
+//! bit can pin `--kernel` and `--channel-plan`.
 //!
-//! The first lattice of its kind (scheme, lattice size, geometry words) a process builds on a
-//! device times a short propagation of every colour channel with each kernel (alternating, a
-//! warm-up, then the fastest of five) and takes the faster; a kernel that cannot be built there
-//! (no tile fits the shared memory, say) is not a candidate. The choice is kept for the process
-//! and in `kernels.json` in vkgi's cache folder (`$VKGI_CACHE_DIR`, else
-//! `$XDG_CACHE_HOME/vkgi`, else `~/.cache/vkgi`), keyed by the device, its driver, the scheme,
-//! the lattice size (small lattices favour tiles: a column kernel there has one-cell columns),
-//! the geometry words and the kernels' SPIR-V, so later runs skip the measurement and a new
-//! build or driver measures again. A cache that cannot be read or written is measured around.
+//! The first lattice of its kind (scheme, lattice size, geometry words, pinned settings) a
+//! process builds on a device times a short propagation of every colour channel with each
+//! candidate (kernel and plan; alternating, a warm-up, then the fastest of five) and takes the
+//! fastest; a candidate that cannot be built there (no tile fits the shared memory, say) is
+//! none. The measurement records the three channels in one command buffer on one queue, so it
+//! does not see separate channels overlap on a device with a compute queue each (pin
+//! `--channel-plan separate` there to run them async). The choice is kept for the process and in
+//! `kernels.json` in vkgi's cache folder (`$VKGI_CACHE_DIR`, else `$XDG_CACHE_HOME/vkgi`, else
+//! `~/.cache/vkgi`), keyed by the device, its driver, the scheme, the lattice size (small
+//! lattices favour tiles: a column kernel there has one-cell columns), the geometry words, the
+//! candidates and their SPIR-V, so later runs skip the measurement and a new build or driver
+//! measures again. A cache that cannot be read or written is measured around.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
-use super::technique::{Field, Kernel, Lpv, LpvSettings, Scheme};
+use super::technique::{ChannelPlan, Field, Kernel, Lpv, LpvSettings, propagation_spirv};
 use crate::gi::registry::Setup;
-use crate::shaders;
 
 /// Measured propagations per kernel (after one warm-up); the fastest counts.
 const RUNS: usize = 5;
 /// Steps of each measured propagation.
 const STEPS: u32 = 2;
 
+/// A kernel and plan the autotune measured, and its time.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Timing {
+    pub kernel: Kernel,
+    pub plan: ChannelPlan,
+    /// Milliseconds of one propagation step of all three channels.
+    pub ms: f64,
+}
+
 /// The autotune's choice and what it rests on.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Choice {
     pub kernel: Kernel,
-    /// Milliseconds of one propagation step of all three channels, per kernel measured.
-    pub tiled_ms: f64,
-    pub column_ms: f64,
+    pub plan: ChannelPlan,
+    /// Every candidate that could be built, with its time.
+    pub timings: Vec<Timing>,
     /// The lattice side it was measured at.
     pub lattice: u32,
     /// Where it came from this time: "measured now", "cached in PATH" or "chosen earlier in
@@ -49,18 +64,41 @@ pub struct Choice {
 impl Choice {
     /// One line for the profile.
     pub fn describe(&self) -> String {
+        let name = |kernel: Kernel, plan: ChannelPlan| {
+            format!("{kernel:?} {plan:?}").to_lowercase()
+        };
+        let timings: Vec<String> = self
+            .timings
+            .iter()
+            .map(|t| format!("{} {:.2} ms", name(t.kernel, t.plan), t.ms))
+            .collect();
         format!(
-            "chosen by --kernel auto: {} (one step of all channels at lattice {}: tiled {:.2} ms, column {:.2} ms; {})",
-            format!("{:?}", self.kernel).to_lowercase(),
+            "chosen by the autotune: {} (one step of all channels at lattice {}: {}; {})",
+            name(self.kernel, self.plan),
             self.lattice,
-            self.tiled_ms,
-            self.column_ms,
+            timings.join(", "),
             self.source
         )
     }
 }
 
-/// The kernel `--kernel auto` runs for `settings` on `setup`'s device.
+/// The kernels and plans `settings` leave to the autotune (all of them unless pinned).
+fn candidates(settings: &LpvSettings) -> Vec<(Kernel, ChannelPlan)> {
+    let kernels = match settings.kernel {
+        Some(kernel) => vec![kernel],
+        None => vec![Kernel::Tiled, Kernel::Column],
+    };
+    let plans = match settings.channels {
+        Some(plan) => vec![plan],
+        None => vec![ChannelPlan::Separate, ChannelPlan::Fused],
+    };
+    kernels
+        .into_iter()
+        .flat_map(|k| plans.iter().map(move |&p| (k, p)))
+        .collect()
+}
+
+/// The kernel and plan the autotune runs for `settings` on `setup`'s device.
 pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     let key = cache_key(setup, settings);
     // One lock over look-up, measurement and write: two threads never time kernels at once (nor
@@ -96,55 +134,57 @@ pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     Ok(choice)
 }
 
-/// Time a propagation of [`STEPS`] steps of every channel with each kernel on a lattice of
+/// Time a propagation of [`STEPS`] steps of every channel with each candidate on a lattice of
 /// these settings.
 fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
-    let probe = |kernel| {
+    let probe = |kernel, plan| {
         let settings = LpvSettings {
             kernel: Some(kernel),
+            channels: Some(plan),
             iterations: STEPS,
             ..settings.clone()
         };
         Lpv::with_field(setup, settings, Field::Whole)
     };
-    // A kernel that cannot be built on this device (or for this lattice) is no candidate.
-    let mut candidates: Vec<(Kernel, Lpv, f64)> = Vec::new();
+    // A candidate that cannot be built on this device (or for this lattice) is none.
+    let mut built: Vec<(Timing, Lpv)> = Vec::new();
     let mut refused = None;
-    for kernel in [Kernel::Tiled, Kernel::Column] {
-        match probe(kernel) {
-            Ok(lpv) => candidates.push((kernel, lpv, f64::INFINITY)),
+    for (kernel, plan) in candidates(settings) {
+        match probe(kernel, plan) {
+            Ok(lpv) => built.push((
+                Timing {
+                    kernel,
+                    plan,
+                    ms: f64::INFINITY,
+                },
+                lpv,
+            )),
             Err(e) => refused = Some(e),
         }
     }
-    if let (true, Some(e)) = (candidates.is_empty(), refused) {
+    if let (true, Some(e)) = (built.is_empty(), refused) {
         return Err(e);
     }
-    // Runs alternate between the kernels, so a machine that slows for a while slows both.
+    // Runs alternate between the candidates, so a machine that slows for a while slows all.
     for run in 0..=RUNS {
-        for (_, lpv, best) in &mut candidates {
+        for (timing, lpv) in &mut built {
             let start = Instant::now();
             setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
             let ms = start.elapsed().as_secs_f64() * 1e3 / f64::from(STEPS);
             if run > 0 {
-                *best = best.min(ms);
+                timing.ms = timing.ms.min(ms);
             }
         }
     }
-    let time = |kernel| {
-        candidates
-            .iter()
-            .find(|c| c.0 == kernel)
-            .map_or(f64::INFINITY, |c| c.2)
-    };
-    let (tiled_ms, column_ms) = (time(Kernel::Tiled), time(Kernel::Column));
+    let timings: Vec<Timing> = built.into_iter().map(|(timing, _)| timing).collect();
+    let fastest = timings
+        .iter()
+        .min_by(|a, b| a.ms.total_cmp(&b.ms))
+        .ok_or_else(|| anyhow::anyhow!("the autotune had no propagation kernel to measure"))?;
     Ok(Choice {
-        kernel: if column_ms < tiled_ms {
-            Kernel::Column
-        } else {
-            Kernel::Tiled
-        },
-        tiled_ms,
-        column_ms,
+        kernel: fastest.kernel,
+        plan: fastest.plan,
+        timings: timings.clone(),
         lattice: settings.lattice,
         source: "measured now".into(),
     })
@@ -152,15 +192,15 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
 
 fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
     let info = &setup.gpu.info;
-    let kernels: &[&[u8]] = match settings.scheme {
-        Scheme::Ilpv => &[shaders::GI_LPV_ILPV_TILED_COMP, shaders::GI_LPV_ILPV_COLUMN_COMP],
-        Scheme::Lpv => &[shaders::GI_LPV_LPV_TILED_COMP, shaders::GI_LPV_LPV_COLUMN_COMP],
-    };
-    let spirv = kernels.iter().fold(crate::digest::FNV_OFFSET, |h, k| {
-        crate::digest::fnv1a(k.iter().copied(), h)
-    });
+    let candidates = candidates(settings);
+    let spirv = candidates
+        .iter()
+        .fold(crate::digest::FNV_OFFSET, |h, &(kernel, plan)| {
+            let spirv = propagation_spirv(settings.scheme, kernel, plan);
+            crate::digest::fnv1a(spirv.iter().copied(), h)
+        });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | {spirv:016x}",
+        "{} | {} | {:?} | lattice {} | {} words | {candidates:?} | {spirv:016x}",
         info.name,
         info.driver,
         settings.scheme,

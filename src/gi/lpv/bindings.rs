@@ -23,17 +23,24 @@ crate::shared_constants! {
     COMPENSATE_CELLS: u32 = 0;
     COMPENSATE_NEIGHBOURS: u32 = 1;
 
-    // ---- propagation: 26-neighbour ILPV and 6-neighbour LPV ----
-    ILPV_SOURCE: u32 = 0;
-    ILPV_DESTINATION: u32 = 1;
-    ILPV_GEOMETRY: u32 = 2;
-    ILPV_NEIGHBOURS: u32 = 3;
-    ILPV_ACCUMULATION: u32 = 4;
-    LPV_SOURCE: u32 = 0;
-    LPV_DESTINATION: u32 = 1;
-    LPV_ACCUMULATION: u32 = 2;
-    LPV_GEOMETRY: u32 = 3;
-    LPV_AXES: u32 = 4;
+    // ---- propagation: 26-neighbour ILPV and 6-neighbour LPV, one colour channel a dispatch
+    // (the _R bindings) or all three ----
+    STEP_SOURCE_R: u32 = 0;
+    STEP_SOURCE_G: u32 = 1;
+    STEP_SOURCE_B: u32 = 2;
+    STEP_DESTINATION_R: u32 = 3;
+    STEP_DESTINATION_G: u32 = 4;
+    STEP_DESTINATION_B: u32 = 5;
+    STEP_ACCUMULATION_R: u32 = 6;
+    STEP_ACCUMULATION_G: u32 = 7;
+    STEP_ACCUMULATION_B: u32 = 8;
+    // The accumulation read as texels (the kernels that read their sources as texels).
+    STEP_ACCUMULATION_READ_R: u32 = 9;
+    STEP_ACCUMULATION_READ_G: u32 = 10;
+    STEP_ACCUMULATION_READ_B: u32 = 11;
+    STEP_GEOMETRY: u32 = 12;
+    // ILPV's 26 neighbours, LPV's 6 axes.
+    STEP_CONSTANTS: u32 = 13;
 
     // ---- lookup ----
     LOOKUP_GBUFFER_POSITION: u32 = 0;

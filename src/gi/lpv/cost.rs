@@ -17,6 +17,11 @@
 //! an SH lobe, the blocking function, clamp 2): 99 with an SH lobe (594 per cell), 116 with the
 //! projected area (696), 89 with visibility (534).
 //!
+//! A step that carries the three colour channels in one dispatch (`--channels fused`) reads the
+//! geometry once and evaluates the blocking (the function, the clamp and, for LPV's SH lobes,
+//! the mean) once for all three, so per cell and channel its ideal is a third of those: ILPV
+//! 26 × (20 + 9/3) = 598 flops and 80 - 2/3 × 16 bytes with an SH lobe, LPV 6 × (85 + 14/3) = 538.
+//!
 //! The lookup, per pixel: the G-buffer's position (16 B), normal and albedo (8 B each, half
 //! floats) read and the HDR pixel read and written (32 B), 64 B; a lattice is small enough to
 //! stay in cache, so at the ideal its cells are read once a frame, not per pixel. Arithmetic:
@@ -39,9 +44,11 @@ fn blocking_flops(geometry_words: u32) -> f64 {
     }
 }
 
-/// Bytes a step must move per cell at the ideal (each cell read and written once).
-pub fn bytes_per_cell(scheme: Scheme, accumulate: bool, geometry_words: u32) -> f64 {
-    let streaming = 16.0 + 16.0 * f64::from(geometry_words) + 16.0;
+/// Bytes a step must move per cell and channel at the ideal (each cell read and written once),
+/// when a dispatch carries `channels` colour channels (1 or 3).
+pub fn bytes_per_cell(scheme: Scheme, accumulate: bool, geometry_words: u32, channels: u32) -> f64 {
+    let geometry = 16.0 * f64::from(geometry_words) / f64::from(channels);
+    let streaming = 16.0 + geometry + 16.0;
     let accumulation = match scheme {
         Scheme::Lpv => 32.0,
         Scheme::Ilpv if accumulate => 32.0,
@@ -50,14 +57,17 @@ pub fn bytes_per_cell(scheme: Scheme, accumulate: bool, geometry_words: u32) -> 
     streaming + accumulation
 }
 
-/// Floating-point operations a step performs per cell.
-pub fn flops_per_cell(scheme: Scheme, geometry_words: u32) -> f64 {
+/// Floating-point operations a step performs per cell and channel, when a dispatch carries
+/// `channels` colour channels (1 or 3) and evaluates the blocking once for all of them.
+pub fn flops_per_cell(scheme: Scheme, geometry_words: u32, channels: u32) -> f64 {
+    let channels = f64::from(channels);
     let blocking = blocking_flops(geometry_words);
     match scheme {
-        Scheme::Ilpv => 26.0 * (22.0 + blocking),
+        // Per neighbour 20 per channel; the blocking function and its clamp (2) once.
+        Scheme::Ilpv => 26.0 * (20.0 + (blocking + 2.0) / channels),
         Scheme::Lpv => {
             let mean = if geometry_words == 1 { 5.0 } else { 0.0 };
-            6.0 * (5.0 * 17.0 + mean + blocking + 2.0)
+            6.0 * (5.0 * 17.0 + (mean + blocking + 2.0) / channels)
         }
     }
 }
@@ -76,16 +86,19 @@ mod tests {
 
     #[test]
     fn counts_follow_the_derivation() {
-        assert_eq!(flops_per_cell(Scheme::Ilpv, 1), 754.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 1), 594.0);
-        assert_eq!(flops_per_cell(Scheme::Ilpv, 3), 1326.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 3), 696.0);
-        assert_eq!(flops_per_cell(Scheme::Ilpv, 4), 624.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 4), 534.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 1), 48.0);
-        assert_eq!(bytes_per_cell(Scheme::Lpv, true, 1), 80.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3), 80.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 4), 96.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, 1, 1), 754.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 1, 1), 594.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, 3, 1), 1326.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 3, 1), 696.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, 4, 1), 624.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 4, 1), 534.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, 1, 3), 598.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, 1, 3), 538.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 1, 1), 48.0);
+        assert_eq!(bytes_per_cell(Scheme::Lpv, true, 1, 1), 80.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3, 1), 80.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 4, 1), 96.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3, 3), 48.0);
         assert_eq!(lookup_flops_per_pixel(1), 275.0);
         assert_eq!(lookup_flops_per_pixel(2), 538.0);
     }

@@ -3,7 +3,7 @@
 
 use super::geometry::BlockingLobe;
 use super::technique::{
-    self as t, Extinction, FarLattice, IlpvLookup, InjectToward, Injection, Kernel, Lpv, LpvSettings,
+    self as t, ChannelPlan, Extinction, FarLattice, IlpvLookup, InjectToward, Injection, Kernel, Lpv, LpvSettings,
     Scheme,
 };
 use crate::error::InputError;
@@ -92,6 +92,12 @@ const KERNEL: Setting = Setting::new(
     "auto",
     "The propagation kernel: auto (the faster of tiled and column on this device, measured once and cached), tiled (a shared-memory tile per workgroup, for GPUs), naive (global memory) or column (a column of cells along z per thread, its sources in registers, for CPU devices); all give the same bits",
 );
+const CHANNEL_PLAN: Setting = Setting::new(
+    "channel-plan",
+    Kind::Choice(&["auto", "separate", "fused"]),
+    "auto",
+    "How a propagation step carries the colour channels: auto (the faster on this device, measured with the kernel and cached), separate (a dispatch per channel: three parts, which overlap on devices with a compute queue each under --parts async) or fused (R, G and B in one dispatch, reading the geometry once); both give the same bits",
+);
 const NO_CLAMP_COMPENSATION: Setting = Setting::new(
     "no-clamp-compensation",
     Kind::Flag,
@@ -166,6 +172,7 @@ const ILPV_SETTINGS: &[Setting] = &[
     BLOCKING_STRENGTH,
     BLOCK_FIRST_STEP,
     KERNEL,
+    CHANNEL_PLAN,
     NO_CLAMP_COMPENSATION,
     INJECT_OFFSET,
     INJECT_TOWARD,
@@ -184,6 +191,7 @@ const LPV_SETTINGS: &[Setting] = &[
     BLOCKING_STRENGTH,
     BLOCK_FIRST_STEP,
     KERNEL,
+    CHANNEL_PLAN,
     INJECT_OFFSET,
     INJECT_TOWARD,
     INJECTION,
@@ -286,6 +294,11 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
             Some("tiled") => Some(Kernel::Tiled),
             Some("naive") => Some(Kernel::Naive),
             Some("column") => Some(Kernel::Column),
+            _ => None,
+        },
+        channels: match s.has("channel-plan").then(|| s.text("channel-plan")).transpose()? {
+            Some("separate") => Some(ChannelPlan::Separate),
+            Some("fused") => Some(ChannelPlan::Fused),
             _ => None,
         },
         clamp_compensation: !flag("no-clamp-compensation")?,

@@ -122,6 +122,9 @@ pub struct LpvSettings {
     /// The propagation kernel; None: the faster on this device, measured once
     /// (`--kernel auto`, autotune.rs).
     pub kernel: Option<Kernel>,
+    /// How a step's dispatches carry the colour channels; None: the faster on this device,
+    /// measured with the kernel (`--channel-plan auto`, autotune.rs).
+    pub channels: Option<ChannelPlan>,
     /// Rescale cells so each 26-neighbour step conserves energy despite the clamp.
     pub clamp_compensation: bool,
     pub ilpv_lookup: IlpvLookup,
@@ -169,6 +172,25 @@ pub enum Kernel {
     Column,
 }
 
+impl Kernel {
+    /// Whether the kernel reads its source lattice, the geometry and the accumulation as texel
+    /// buffers.
+    pub fn reads_texels(self) -> bool {
+        self == Kernel::Column
+    }
+}
+
+/// How a propagation step's dispatches carry the three colour channels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum ChannelPlan {
+    /// A dispatch per channel: three independent parts, which run in sequence on one queue or
+    /// overlap on a compute queue each (`--parts async`).
+    Separate,
+    /// R, G and B in one dispatch (one part): the geometry is read, and the blocking evaluated,
+    /// once for all three.
+    Fused,
+}
+
 /// How VPLs add into their cells.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum Injection {
@@ -206,6 +228,7 @@ impl Default for LpvSettings {
             blocking_strength: 1.0,
             first_step_unblocked: true,
             kernel: None,
+            channels: None,
             clamp_compensation: true,
             ilpv_lookup: IlpvLookup::Accumulated,
             inject_offset: DEFAULT_INJECT_OFFSET,
@@ -406,26 +429,59 @@ pub fn column_cells(dims: [u32; 3]) -> u32 {
     dims[2].div_ceil(pieces)
 }
 
-/// Shared memory a tile of `t` cells needs: light (one word per cell) and `geometry_words`
-/// words of geometry per cell, one-cell halo, z padded.
-pub fn tile_shared_bytes(t: [u32; 3], geometry_words: u32) -> u32 {
-    (1 + geometry_words) * 16 * (t[0] + 2) * (t[1] + 2) * (t[2] + 2 + Z_PAD)
+/// Shared memory a tile of `t` cells needs: light (one word per cell and channel) and
+/// `geometry_words` words of geometry per cell, one-cell halo, z padded.
+pub fn tile_shared_bytes(t: [u32; 3], geometry_words: u32, channels: u32) -> u32 {
+    (channels + geometry_words) * 16 * (t[0] + 2) * (t[1] + 2) * (t[2] + 2 + Z_PAD)
 }
 
-/// The largest candidate tile that fits `shared_bytes` and `max_invocations`.
+/// The largest candidate tile of `channels` channels that fits `shared_bytes` and
+/// `max_invocations`.
 pub fn choose_tile(
     shared_bytes: u32,
     max_invocations: u32,
     geometry_words: u32,
+    channels: u32,
 ) -> Option<[u32; 3]> {
     TILE_CANDIDATES.into_iter().find(|t| {
-        tile_shared_bytes(*t, geometry_words) <= shared_bytes
+        tile_shared_bytes(*t, geometry_words, channels) <= shared_bytes
             && t.iter().product::<u32>() <= max_invocations
     })
 }
 
-/// The colour channels: the method's independent parts.
+/// The SPIR-V of a propagation step.
+pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &'static [u8] {
+    use ChannelPlan::{Fused, Separate};
+    match (scheme, kernel, plan) {
+        (Scheme::Ilpv, Kernel::Tiled, Separate) => shaders::GI_LPV_ILPV_TILED_COMP,
+        (Scheme::Ilpv, Kernel::Tiled, Fused) => shaders::GI_LPV_ILPV_TILED_RGB_COMP,
+        (Scheme::Ilpv, Kernel::Naive, Separate) => shaders::GI_LPV_ILPV_NAIVE_COMP,
+        (Scheme::Ilpv, Kernel::Naive, Fused) => shaders::GI_LPV_ILPV_NAIVE_RGB_COMP,
+        (Scheme::Ilpv, Kernel::Column, Separate) => shaders::GI_LPV_ILPV_COLUMN_COMP,
+        (Scheme::Ilpv, Kernel::Column, Fused) => shaders::GI_LPV_ILPV_COLUMN_RGB_COMP,
+        (Scheme::Lpv, Kernel::Tiled, Separate) => shaders::GI_LPV_LPV_TILED_COMP,
+        (Scheme::Lpv, Kernel::Tiled, Fused) => shaders::GI_LPV_LPV_TILED_RGB_COMP,
+        (Scheme::Lpv, Kernel::Naive, Separate) => shaders::GI_LPV_LPV_NAIVE_COMP,
+        (Scheme::Lpv, Kernel::Naive, Fused) => shaders::GI_LPV_LPV_NAIVE_RGB_COMP,
+        (Scheme::Lpv, Kernel::Column, Separate) => shaders::GI_LPV_LPV_COLUMN_COMP,
+        (Scheme::Lpv, Kernel::Column, Fused) => shaders::GI_LPV_LPV_COLUMN_RGB_COMP,
+    }
+}
+
+/// The colour channels: the method's independent parts when each has its own dispatches.
 const CHANNELS: [&str; 3] = ["R", "G", "B"];
+/// The one part of a plan that carries the three channels together.
+const ALL_CHANNELS: [&str; 1] = ["RGB"];
+
+impl ChannelPlan {
+    /// Colour channels one propagation dispatch carries.
+    pub fn channels(self) -> u32 {
+        match self {
+            ChannelPlan::Separate => 1,
+            ChannelPlan::Fused => 3,
+        }
+    }
+}
 
 /// The geometry lattice's last update after geometry moved.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -441,8 +497,10 @@ pub struct Lpv {
     pub settings: LpvSettings,
     pub lattice: Lattice,
     pub transfer: TransferVectors,
-    /// The propagation kernel that runs, and the autotune's reasons when it chose it.
+    /// The propagation kernel that runs and how its dispatches carry the channels, and the
+    /// autotune's reasons when it chose them.
     pub kernel: Kernel,
+    pub plan: ChannelPlan,
     autotune: Option<autotune::Choice>,
     /// The workgroup tile of the propagation kernel (tiled: the shared-memory tile).
     pub tile: [u32; 3],
@@ -542,13 +600,18 @@ impl Lpv {
         field: Field,
     ) -> anyhow::Result<Lpv> {
         let (gpu, scene) = (setup.gpu, setup.scene);
-        let (kernel, autotune) = match settings.kernel {
-            Some(kernel) => (kernel, None),
-            None => {
+        let (kernel, plan, autotune) = match (settings.kernel, settings.channels) {
+            (Some(kernel), Some(plan)) => (kernel, plan, None),
+            (kernel, plan) => {
                 let choice = autotune::choose(setup, &settings)?;
-                (choice.kernel, Some(choice))
+                (
+                    kernel.unwrap_or(choice.kernel),
+                    plan.unwrap_or(choice.plan),
+                    Some(choice),
+                )
             }
         };
+        let channels = plan.channels();
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
         let cells = lattice.cell_count();
         // The largest buffer: the geometry lattice (16 bytes per word, up to 4 words per cell)
@@ -607,24 +670,22 @@ impl Lpv {
         (setup.progress)("geometry lattice", 1.0);
 
         let shared = gpu.info.max_shared_memory_bytes;
-        let (tile, propagate_spirv) = match (settings.scheme, kernel) {
-            (scheme, Kernel::Tiled) => {
-                let tile =
-                    choose_tile(shared, gpu.info.max_workgroup_invocations, geometry_words)
-                        .ok_or_else(|| {
-                        anyhow::anyhow!("no propagation tile fits {shared} bytes of shared memory")
-                    })?;
-                let spirv = match scheme {
-                    Scheme::Ilpv => shaders::GI_LPV_ILPV_TILED_COMP,
-                    Scheme::Lpv => shaders::GI_LPV_LPV_TILED_COMP,
-                };
-                (tile, spirv)
-            }
-            (Scheme::Ilpv, Kernel::Naive) => (NAIVE_GROUP, shaders::GI_LPV_ILPV_NAIVE_COMP),
-            (Scheme::Lpv, Kernel::Naive) => (NAIVE_GROUP, shaders::GI_LPV_LPV_NAIVE_COMP),
-            (Scheme::Ilpv, Kernel::Column) => (COLUMN_GROUP, shaders::GI_LPV_ILPV_COLUMN_COMP),
-            (Scheme::Lpv, Kernel::Column) => (COLUMN_GROUP, shaders::GI_LPV_LPV_COLUMN_COMP),
+        let tile = match kernel {
+            Kernel::Tiled => choose_tile(
+                shared,
+                gpu.info.max_workgroup_invocations,
+                geometry_words,
+                channels,
+            )
+            .ok_or_else(|| {
+                anyhow::anyhow!(
+                    "no propagation tile of {channels} channel(s) fits {shared} bytes of shared memory"
+                )
+            })?,
+            Kernel::Naive => NAIVE_GROUP,
+            Kernel::Column => COLUMN_GROUP,
         };
+        let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
         let column = column_cells(lattice.dims.to_array());
         let propagate_threads = propagation_threads(kernel, lattice.dims.to_array(), tile, column);
         let mut spec = Specialization::new()
@@ -647,8 +708,13 @@ impl Lpv {
             Field::Far => None,
             Field::Whole => Some(Rsm::new(gpu, scene, settings.rsm)?),
         };
-        let lattice_buffer =
-            |name: String| gpu.create_buffer(&BufferDesc::storage(&name, (cells * 16) as u64));
+        // The column kernel reads its sources (the lattices and the geometry) as texel buffers.
+        let texels = kernel.reads_texels();
+        let storage = |name: &str, bytes: usize, texels: bool| match texels {
+            true => gpu.create_buffer(&BufferDesc::storage_texels(name, bytes as u64)),
+            false => gpu.create_buffer(&BufferDesc::storage(name, bytes as u64)),
+        };
+        let lattice_buffer = |name: String| storage(&name, cells * 16, texels);
         let channel_pair = |c: usize| -> GpuResult<[Buffer; 2]> {
             Ok([
                 lattice_buffer(format!("lattice {} a", CHANNELS[c]))?,
@@ -724,6 +790,7 @@ impl Lpv {
             lattice,
             transfer,
             kernel,
+            plan,
             autotune,
             tile,
             propagate_threads,
@@ -755,8 +822,12 @@ impl Lpv {
             field,
             lattices,
             accumulation,
-            geometry: gpu
-                .upload_storage("geometry lattice", bytemuck::cast_slice(&geometry_f32))?,
+            geometry: {
+                let bytes: &[u8] = bytemuck::cast_slice(&geometry_f32);
+                let buffer = storage("geometry lattice", bytes.len(), texels)?;
+                gpu.write_buffer(&buffer, bytes)?;
+                buffer
+            },
             neighbours: gpu.upload_uniform("ilpv neighbours", bytemuck::cast_slice(&neighbours))?,
             axes: gpu.upload_uniform("lpv axes", bytemuck::cast_slice(&axes))?,
             pending_geometry: Vec::new(),
@@ -932,64 +1003,86 @@ impl Lpv {
         })
     }
 
-    /// Merge and propagate one colour channel; returns the index of the lattice holding the
-    /// result. `current` holds this frame's injection.
+    /// Merge and propagate the colour channels `channels` (one part: one channel, or all three
+    /// with a fused plan); returns the index of the lattice holding their result. `current`
+    /// holds this frame's injection.
     fn merge_and_propagate(
         &self,
         rec: &mut Recorder,
-        channel: usize,
+        channels: &[usize],
         current: usize,
     ) -> GpuResult<usize> {
-        let cells = self.lattice.cell_count() as u32;
-        let pair = &self.lattices[channel];
-        let (previous_factor, current_factor) = self.blend_weights(channel);
-        if previous_factor > 0.0 || current_factor != 1.0 {
-            let push = MergePush {
-                cells,
-                previous_factor,
-                current_factor,
-            };
-            rec.compute(&ComputePass {
-                name: "merge",
-                pipeline: &self.merge_pipeline,
-                bindings: &[
-                    Binding::write(ids::MERGE_CURRENT, &pair[current]),
-                    Binding::read(ids::MERGE_PREVIOUS, &pair[1 - current]),
-                ],
-                push: &push,
-                threads: [cells, 1, 1],
-            })?;
+        for &channel in channels {
+            self.record_merge(rec, channel, current)?;
+            self.start_accumulation(rec, channel, current)?;
         }
-        self.record_channel_steps(rec, channel, current)
+        self.record_steps(rec, channels, current)
     }
 
-    /// Start the accumulation with lattice `current` and propagate it; returns the index of the
-    /// lattice holding the last step's result.
-    fn record_channel_steps(
+    /// Propagate `channels` from lattice `current`; returns the index of the lattice holding
+    /// the last step's result.
+    fn record_steps(
         &self,
         rec: &mut Recorder,
-        channel: usize,
+        channels: &[usize],
         current: usize,
     ) -> GpuResult<usize> {
-        let pair = &self.lattices[channel];
-        if !self.reads_final() {
-            let acc = &self.accumulation[channel];
-            match self.field {
-                Field::Far => self.record_carried_start(rec, channel, current)?,
-                Field::Whole => {
-                    rec.copy_buffer("accumulate", &pair[current], acc, acc.size)
-                }
-            }
-        }
         let (absorption, scattering) = self.settings.medium(self.lattice.cell_size);
         let mut src = current;
         for step in 0..self.steps_run() {
             rec.in_step(step as u32 + 1, |rec| {
-                self.record_step(rec, channel, step, src, (absorption, scattering))
+                self.record_step(rec, channels, step, src, (absorption, scattering))
             })?;
             src = 1 - src;
         }
         Ok(src)
+    }
+
+    /// Blend last frame's light of `channel` into this frame's injection (ILPV), where the
+    /// blend changes it.
+    fn record_merge(&self, rec: &mut Recorder, channel: usize, current: usize) -> GpuResult<()> {
+        let pair = &self.lattices[channel];
+        let (previous_factor, current_factor) = self.blend_weights(channel);
+        if previous_factor == 0.0 && current_factor == 1.0 {
+            return Ok(());
+        }
+        let cells = self.lattice.cell_count() as u32;
+        let push = MergePush {
+            cells,
+            previous_factor,
+            current_factor,
+        };
+        rec.compute(&ComputePass {
+            name: "merge",
+            pipeline: &self.merge_pipeline,
+            bindings: &[
+                Binding::write(ids::MERGE_CURRENT, &pair[current]),
+                Binding::read(ids::MERGE_PREVIOUS, &pair[1 - current]),
+            ],
+            push: &push,
+            threads: [cells, 1, 1],
+        })
+    }
+
+    /// Start `channel`'s accumulation with lattice `current` (a far field's: and the light it
+    /// carries from last frame), unless the lookup reads the last step alone.
+    fn start_accumulation(
+        &self,
+        rec: &mut Recorder,
+        channel: usize,
+        current: usize,
+    ) -> GpuResult<()> {
+        if self.reads_final() {
+            return Ok(());
+        }
+        let acc = &self.accumulation[channel];
+        match self.field {
+            Field::Far => self.record_carried_start(rec, channel, current),
+            Field::Whole => {
+                rec.copy_buffer("accumulate", &self.lattices[channel][current], acc, acc.size);
+                Ok(())
+            }
+        }
     }
 
     /// A far field's accumulation starts with the light carried from last frame, λ̃a times
@@ -1022,22 +1115,23 @@ impl Lpv {
         })
     }
 
-    /// One propagation step of one channel from lattice `src` into the other.
+    /// One propagation step of the colour channels `channels` (one dispatch for them all) from
+    /// lattice `src` into the other.
     fn record_step(
         &self,
         rec: &mut Recorder,
-        channel: usize,
+        channels: &[usize],
         step: usize,
         src: usize,
         (absorption, scattering): (f64, f64),
     ) -> GpuResult<()> {
         let cells = self.lattice.cell_count() as u32;
-        let pair = &self.lattices[channel];
         let use_blocking = if step == 0 && self.settings.first_step_unblocked {
             0.0
         } else {
             1.0
         };
+        let bindings = self.step_bindings(channels, src);
         match self.settings.scheme {
             Scheme::Ilpv => {
                 // With compensation the medium is applied there; the step only transports.
@@ -1047,16 +1141,21 @@ impl Lpv {
                         keep_dc: (1.0 - absorption) as f32,
                         keep_directional: (1.0 - absorption - scattering) as f32,
                     };
-                    rec.compute(&ComputePass {
-                        name: "compensate",
-                        pipeline: &self.compensate_pipeline,
-                        bindings: &[
-                            Binding::write(ids::COMPENSATE_CELLS, &pair[src]),
-                            Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours),
-                        ],
-                        push: &push,
-                        threads: [cells, 1, 1],
-                    })?;
+                    for &channel in channels {
+                        rec.compute(&ComputePass {
+                            name: "compensate",
+                            pipeline: &self.compensate_pipeline,
+                            bindings: &[
+                                Binding::write(
+                                    ids::COMPENSATE_CELLS,
+                                    &self.lattices[channel][src],
+                                ),
+                                Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours),
+                            ],
+                            push: &push,
+                            threads: [cells, 1, 1],
+                        })?;
+                    }
                     (0.0, 0.0)
                 } else {
                     (absorption, scattering)
@@ -1071,13 +1170,7 @@ impl Lpv {
                 rec.compute(&ComputePass {
                     name: self.propagate_pass,
                     pipeline: &self.propagate_pipeline,
-                    bindings: &[
-                        Binding::read(ids::ILPV_SOURCE, &pair[src]),
-                        Binding::write(ids::ILPV_DESTINATION, &pair[1 - src]),
-                        Binding::read(ids::ILPV_GEOMETRY, &self.geometry),
-                        Binding::uniform(ids::ILPV_NEIGHBOURS, &self.neighbours),
-                        Binding::write(ids::ILPV_ACCUMULATION, &self.accumulation[channel]),
-                    ],
+                    bindings: &bindings,
                     push: &push,
                     threads: self.propagate_threads,
                 })
@@ -1090,18 +1183,60 @@ impl Lpv {
                 rec.compute(&ComputePass {
                     name: self.propagate_pass,
                     pipeline: &self.propagate_pipeline,
-                    bindings: &[
-                        Binding::read(ids::LPV_SOURCE, &pair[src]),
-                        Binding::write(ids::LPV_DESTINATION, &pair[1 - src]),
-                        Binding::write(ids::LPV_ACCUMULATION, &self.accumulation[channel]),
-                        Binding::read(ids::LPV_GEOMETRY, &self.geometry),
-                        Binding::uniform(ids::LPV_AXES, &self.axes),
-                    ],
+                    bindings: &bindings,
                     push: &push,
                     threads: self.propagate_threads,
                 })
             }
         }
+    }
+
+    /// What a step of `channels` binds: per channel (at the _R, _G, _B bindings in turn) its
+    /// source `src`, its other lattice as the destination and its accumulation; the geometry
+    /// and the scheme's constants. The column kernel reads its sources, the geometry and the
+    /// accumulation as texels.
+    fn step_bindings(&self, channels: &[usize], src: usize) -> Vec<Binding<'_>> {
+        const SOURCES: [u32; 3] = [ids::STEP_SOURCE_R, ids::STEP_SOURCE_G, ids::STEP_SOURCE_B];
+        const DESTINATIONS: [u32; 3] = [
+            ids::STEP_DESTINATION_R,
+            ids::STEP_DESTINATION_G,
+            ids::STEP_DESTINATION_B,
+        ];
+        const ACCUMULATIONS: [u32; 3] = [
+            ids::STEP_ACCUMULATION_R,
+            ids::STEP_ACCUMULATION_G,
+            ids::STEP_ACCUMULATION_B,
+        ];
+        const ACCUMULATION_READS: [u32; 3] = [
+            ids::STEP_ACCUMULATION_READ_R,
+            ids::STEP_ACCUMULATION_READ_G,
+            ids::STEP_ACCUMULATION_READ_B,
+        ];
+        let texels = self.kernel.reads_texels();
+        let read = |binding, buffer| match texels {
+            true => Binding::texels(binding, buffer),
+            false => Binding::read(binding, buffer),
+        };
+        let mut bindings = Vec::with_capacity(4 * channels.len() + 2);
+        for (i, &channel) in channels.iter().enumerate() {
+            let pair = &self.lattices[channel];
+            let accumulation = &self.accumulation[channel];
+            bindings.push(read(SOURCES[i], &pair[src]));
+            bindings.push(Binding::write(DESTINATIONS[i], &pair[1 - src]));
+            // The read before the write: its barrier must wait for the last writer of the
+            // accumulation (the write's barrier then covers this pass's read too).
+            if texels {
+                bindings.push(Binding::texels(ACCUMULATION_READS[i], accumulation));
+            }
+            bindings.push(Binding::write(ACCUMULATIONS[i], accumulation));
+        }
+        bindings.push(read(ids::STEP_GEOMETRY, &self.geometry));
+        let constants = match self.settings.scheme {
+            Scheme::Ilpv => &self.neighbours,
+            Scheme::Lpv => &self.axes,
+        };
+        bindings.push(Binding::uniform(ids::STEP_CONSTANTS, constants));
+        bindings
     }
 
     /// Replace the contents of the R, G, B lattices that propagation starts from (tests and
@@ -1131,19 +1266,33 @@ impl Lpv {
     /// Propagate the loaded lattices `settings.iterations` steps (no RSM, injection or blend).
     pub fn record_propagation(&mut self, rec: &mut Recorder) -> GpuResult<()> {
         let mut result = 0;
-        for (channel, label) in CHANNELS.into_iter().enumerate() {
+        for (index, &label) in self.parts().iter().enumerate() {
             let part = Part {
-                index: channel as u32,
+                index: index as u32,
                 label,
             };
+            let channels = self.part_channels(index);
             result = rec.in_part(part, |rec| {
-                let result = self.record_channel_steps(rec, channel, 0)?;
-                self.copy_to_lookup(rec, channel, result);
+                for &channel in channels {
+                    self.start_accumulation(rec, channel, 0)?;
+                }
+                let result = self.record_steps(rec, channels, 0)?;
+                for &channel in channels {
+                    self.copy_to_lookup(rec, channel, result);
+                }
                 Ok(result)
             })?;
         }
         self.result = result;
         Ok(())
+    }
+
+    /// The colour channels part `part` carries.
+    fn part_channels(&self, part: usize) -> &'static [usize] {
+        match self.plan {
+            ChannelPlan::Separate => [[0].as_slice(), &[1], &[2]][part.min(2)],
+            ChannelPlan::Fused => &[0, 1, 2],
+        }
     }
 
     /// The lattices the lookup would read, per channel.
@@ -1314,12 +1463,18 @@ impl GiMethod for Lpv {
     }
 
     fn parts(&self) -> &'static [&'static str] {
-        &CHANNELS
+        match self.plan {
+            ChannelPlan::Separate => &CHANNELS,
+            ChannelPlan::Fused => &ALL_CHANNELS,
+        }
     }
 
     fn record_part(&mut self, rec: &mut Recorder, _ctx: &FrameContext, part: usize) -> GpuResult<()> {
-        self.pending_result = self.merge_and_propagate(rec, part, self.current)?;
-        self.copy_to_lookup(rec, part, self.pending_result);
+        let channels = self.part_channels(part);
+        self.pending_result = self.merge_and_propagate(rec, channels, self.current)?;
+        for &channel in channels {
+            self.copy_to_lookup(rec, channel, self.pending_result);
+        }
         Ok(())
     }
 
@@ -1370,10 +1525,20 @@ impl GiMethod for Lpv {
     fn core_pass(&self) -> Option<CorePass> {
         Some(CorePass {
             pass: self.propagate_pass,
-            unit: "cell",
-            units: self.lattice.cell_count(),
-            bytes_per_unit: cost::bytes_per_cell(self.settings.scheme, true, self.geometry_words()),
-            flops_per_unit: cost::flops_per_cell(self.settings.scheme, self.geometry_words()),
+            // One channel of one cell, whether a dispatch carries one channel or three.
+            unit: "cell-channel",
+            units: self.lattice.cell_count() * self.plan.channels() as usize,
+            bytes_per_unit: cost::bytes_per_cell(
+                self.settings.scheme,
+                true,
+                self.geometry_words(),
+                self.plan.channels(),
+            ),
+            flops_per_unit: cost::flops_per_cell(
+                self.settings.scheme,
+                self.geometry_words(),
+                self.plan.channels(),
+            ),
         })
     }
     fn pixel_passes(&self) -> Vec<PixelPass> {
@@ -1386,14 +1551,18 @@ impl GiMethod for Lpv {
         let kernel = match self.kernel {
             Kernel::Tiled => format!(
                 "tiled {tx}x{ty}x{tz} (shared {} of {} bytes, z padded by {Z_PAD})",
-                tile_shared_bytes(self.tile, self.geometry_words()),
+                tile_shared_bytes(self.tile, self.geometry_words(), self.plan.channels()),
                 self.device_shared_bytes
             ),
             Kernel::Naive => format!("naive (global memory, workgroup {tx}x{ty}x{tz})"),
             Kernel::Column => format!(
-                "column ({} cells along z per thread, sources in registers, workgroup {tx}x{ty})",
+                "column ({} cells along z per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
                 column_cells(d.to_array())
             ),
+        };
+        let plan = match self.plan {
+            ChannelPlan::Separate => "separate (a dispatch per colour channel)",
+            ChannelPlan::Fused => "fused (R, G and B in one dispatch, the geometry read once)",
         };
         let mut lines = vec![
             format!(
@@ -1407,7 +1576,7 @@ impl GiMethod for Lpv {
                 self.settings.incremental,
                 self.transfer.kappa
             ),
-            format!("propagation kernel: {kernel}"),
+            format!("propagation kernel: {kernel}; channels: {plan}"),
         ];
         if let Some(choice) = &self.autotune {
             lines.push(choice.describe());

@@ -45,14 +45,18 @@ impl TwoScale {
             far_lattice: FarLattice::Off,
             ..settings.clone()
         };
+        near.validate()?;
+        let near = Lpv::with_field(setup, near, Field::Whole)?;
+        // Both fields record the same parts: the far field carries the channels as the near
+        // field's plan does.
         let far = LpvSettings {
             lattice: far_cells,
             far_lattice: FarLattice::Off,
+            channels: Some(near.plan),
             ..settings
         };
-        near.validate()?;
         Ok(TwoScale {
-            near: Lpv::with_field(setup, near, Field::Whole)?,
+            near,
             far: Lpv::with_field(setup, far, Field::Far)?,
             lookup: Lookup::new(setup.gpu, 2)?,
         })

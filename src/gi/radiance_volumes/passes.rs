@@ -296,6 +296,7 @@ impl Passes {
                 size: state_bytes,
                 usage: vk::BufferUsageFlags::TRANSFER_DST,
                 location: MemoryLocation::GpuToCpu,
+                texels: None,
             })?,
             parity: 0,
             voxels,

@@ -350,6 +350,7 @@ impl Solver {
                 size: std::mem::size_of::<ShotState>() as u64,
                 usage: vk::BufferUsageFlags::TRANSFER_DST,
                 location: MemoryLocation::GpuToCpu,
+                texels: None,
             })?,
             locations: storage(
                 "radiosity locations",
