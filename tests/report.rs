@@ -68,6 +68,9 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
         assert!(seen.insert(key.clone()), "duplicate entry {key:?}");
         assert!(p["median_ns"].as_f64().unwrap() > 0.0, "{p}");
         assert!(p["min_ns"].as_f64().unwrap() > 0.0, "{p}");
+        if let Some(fraction) = p["fraction_of_bound"].as_f64() {
+            assert!(fraction > 0.0 && fraction <= 1.0, "{p}");
+        }
     }
     for method in ["lpv", "ilpv"] {
         for lattice in ["4", "8"] {
@@ -133,8 +136,12 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
             ] {
                 assert!(p[key].as_f64().unwrap() > 0.0, "{method}: {key} in {p}");
             }
+            // A bound no pass beats: the probes measure the device's best.
             let fraction = p["fraction_of_bound"].as_f64().unwrap();
-            assert!(fraction.is_finite() && fraction > 0.0, "{method}: {p}");
+            assert!(
+                fraction.is_finite() && fraction > 0.0 && fraction <= 1.0,
+                "{method}: {p}"
+            );
         }
     }
     assert_eq!(
