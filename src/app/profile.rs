@@ -428,7 +428,7 @@ impl ProfileResult {
             for k in c.core.iter().chain(&c.pixel_passes) {
                 let _ = writeln!(
                     out,
-                    "  {}: {:.0} ns median over {} {}s, {:.2} ns per {}, {:.1}% of the device bound ({} B, {} flops per {})",
+                    "  {}: {:.0} ns median over {} {}s, {:.2} ns per {}, {:.1}% of the device bound ({:.1} B, {:.0} flops per {})",
                     k.pass,
                     k.median_ns,
                     k.units,
