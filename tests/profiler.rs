@@ -231,3 +231,73 @@ fn push_constant_layouts_and_write_intent_are_checked_against_the_shader() {
     );
     common::assert_no_validation_errors(&gpu);
 }
+
+vkgi::push_constants! {
+    /// The bandwidth probe's push constants.
+    struct CopyPush {
+        count: u32,
+    }
+}
+
+#[test]
+fn a_buffer_is_read_as_texels_only_through_its_texel_view() {
+    use vkgi::gpu::BufferDesc;
+    use vkgi::shader_shared::{LIMITS_DESTINATION, LIMITS_SOURCE};
+    let gpu = common::gpu();
+    let pipeline = ComputePipeline::new(
+        &gpu,
+        "texel copy",
+        vkgi::shaders::LIMITS_COPY_COMP,
+        &Specialization::new(),
+    )
+    .unwrap();
+    let count = 100u32;
+    let values: Vec<[f32; 4]> = (0..count)
+        .map(|i| {
+            [
+                i as f32,
+                -0.5 * i as f32,
+                1e-3 * i as f32,
+                f32::MAX / (i + 1) as f32,
+            ]
+        })
+        .collect();
+    let bytes = u64::from(count) * 16;
+    let with_view = gpu
+        .create_buffer(&BufferDesc::storage_texels("texel source", bytes))
+        .unwrap();
+    let without_view = gpu
+        .create_buffer(&BufferDesc::storage("plain source", bytes))
+        .unwrap();
+    let destination = gpu
+        .create_buffer(&BufferDesc::storage("copy destination", bytes))
+        .unwrap();
+    gpu.write_buffer(&with_view, bytemuck::cast_slice(&values))
+        .unwrap();
+    let copy = |source| {
+        gpu.one_shot(|rec| {
+            rec.compute(&ComputePass {
+                name: "texel copy",
+                pipeline: &pipeline,
+                bindings: &[
+                    Binding::texels(LIMITS_SOURCE, source),
+                    Binding::write(LIMITS_DESTINATION, &destination),
+                ],
+                push: &CopyPush { count },
+                threads: [count, 1, 1],
+            })
+        })
+    };
+    let message = copy(&without_view).unwrap_err().to_string();
+    assert!(
+        message.contains(
+            "reads buffer 'plain source' as texels, but it was made without a texel view"
+        ),
+        "{message}"
+    );
+    copy(&with_view).unwrap();
+    let copied: Vec<[f32; 4]> =
+        bytemuck::cast_slice(&gpu.read_buffer(&destination).unwrap()).to_vec();
+    assert_eq!(copied, values, "a texel fetch reads the buffer's own bits");
+    common::assert_no_validation_errors(&gpu);
+}
