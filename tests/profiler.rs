@@ -233,7 +233,7 @@ fn push_constant_layouts_and_write_intent_are_checked_against_the_shader() {
 }
 
 vkgi::push_constants! {
-    /// The bandwidth probe's push constants.
+    /// The bandwidth probes' push constants.
     struct CopyPush {
         count: u32,
     }
@@ -247,7 +247,7 @@ fn a_buffer_is_read_as_texels_only_through_its_texel_view() {
     let pipeline = ComputePipeline::new(
         &gpu,
         "texel copy",
-        vkgi::shaders::LIMITS_COPY_COMP,
+        vkgi::shaders::LIMITS_COPY_TEXELS_COMP,
         &Specialization::new(),
     )
     .unwrap();

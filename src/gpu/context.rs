@@ -151,6 +151,7 @@ pub struct DeviceInfo {
     pub max_storage_buffer_range: u32,
     /// The most texels a texel-buffer view may hold (maxTexelBufferElements).
     pub max_texel_buffer_elements: u32,
+    pub descriptor_limits: DescriptorLimits,
     pub max_push_constants_size: u32,
     pub max_image_array_layers: u32,
     /// Largest single memory allocation the device supports (maxMemoryAllocationSize).
@@ -163,6 +164,21 @@ pub struct DeviceInfo {
     /// VK_EXT_conservative_rasterization, where the device has it (enabled): raster pipelines
     /// may overestimate coverage (every pixel a triangle touches).
     pub conservative_rasterization: Option<ConservativeRasterization>,
+}
+
+/// How many descriptors of each kind one shader stage may use (maxPerStageDescriptor*), and how
+/// many bindings one push-descriptor set may hold (maxPushDescriptors).
+#[derive(Clone, Copy, Debug)]
+pub struct DescriptorLimits {
+    pub storage_buffers: u32,
+    pub uniform_buffers: u32,
+    /// Sampled images, combined image samplers and uniform texel buffers.
+    pub sampled_images: u32,
+    /// Storage images and storage texel buffers.
+    pub storage_images: u32,
+    /// Samplers and combined image samplers.
+    pub samplers: u32,
+    pub push_descriptors: u32,
 }
 
 /// What the device's conservative rasterisation does beyond the pixel square.
@@ -790,11 +806,13 @@ fn create_device(
 
     let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
     let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+    let mut push_descriptor_props = vk::PhysicalDevicePushDescriptorPropertiesKHR::default();
     let mut conservative_props =
         vk::PhysicalDeviceConservativeRasterizationPropertiesEXT::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default()
         .push_next(&mut driver_props)
-        .push_next(&mut maintenance3);
+        .push_next(&mut maintenance3)
+        .push_next(&mut push_descriptor_props);
     if conservative {
         props2 = props2.push_next(&mut conservative_props);
     }
@@ -821,6 +839,14 @@ fn create_device(
         max_image_dimension_3d: limits.max_image_dimension3_d,
         max_storage_buffer_range: limits.max_storage_buffer_range,
         max_texel_buffer_elements: limits.max_texel_buffer_elements,
+        descriptor_limits: DescriptorLimits {
+            storage_buffers: limits.max_per_stage_descriptor_storage_buffers,
+            uniform_buffers: limits.max_per_stage_descriptor_uniform_buffers,
+            sampled_images: limits.max_per_stage_descriptor_sampled_images,
+            storage_images: limits.max_per_stage_descriptor_storage_images,
+            samplers: limits.max_per_stage_descriptor_samplers,
+            push_descriptors: push_descriptor_props.max_push_descriptors,
+        },
         max_push_constants_size: limits.max_push_constants_size,
         max_image_array_layers: limits.max_image_array_layers,
         max_memory_allocation_size: maintenance3.max_memory_allocation_size,

@@ -108,19 +108,20 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
-        if let Some(allocation) = self.allocation.take()
-            && let Ok(mut allocator) = self.shared.allocator.lock()
-        {
-            let _ = allocator.free(allocation);
-        }
         // SAFETY: the owner guarantees the GPU no longer uses the buffer or its view (frames are
-        // waited on before resources are dropped); the view goes before the buffer.
+        // waited on before resources are dropped); the view goes before the buffer, and the
+        // buffer before its memory.
         unsafe {
             if let Some(view) = self.texel_view.take() {
                 self.shared.device.destroy_buffer_view(view, None);
             }
             self.shared.device.destroy_buffer(self.raw, None)
         };
+        if let Some(allocation) = self.allocation.take()
+            && let Ok(mut allocator) = self.shared.allocator.lock()
+        {
+            let _ = allocator.free(allocation);
+        }
     }
 }
 
@@ -303,6 +304,7 @@ impl Gpu {
             let view = unsafe { device.create_buffer_view(&info, None) }.map_err(vk_err(
                 &format!("creating the texel view of buffer '{}'", desc.name),
             ))?;
+            self.shared.set_name(view, desc.name);
             buffer.texel_view = Some(view);
         }
         Ok(buffer)

@@ -21,7 +21,7 @@ pub mod reflect;
 pub mod scope;
 pub mod swapchain;
 
-pub use context::{ConservativeRasterization, Gpu, GpuOptions, Queue, QueuePlan};
+pub use context::{ConservativeRasterization, DescriptorLimits, Gpu, GpuOptions, Queue, QueuePlan};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, Sampler};
 pub use pass::{Binding, ComputePass, Draw, RasterPass, Recorder};
 pub use pipeline::{ComputePipeline, RasterPipeline, RasterPipelineDesc, Specialization};

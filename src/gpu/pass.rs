@@ -21,7 +21,7 @@ pub enum Access {
     ComputeRead,
     /// Read and write from a compute shader (storage).
     ComputeWrite,
-    /// Sampled read (texture) from a compute shader.
+    /// Sampled read (texture, or a uniform texel buffer's texel fetch) from a compute shader.
     ComputeSampled,
     /// Storage-buffer read in the vertex or fragment stage.
     GraphicsRead,
@@ -433,7 +433,13 @@ impl<'a> Recorder<'a> {
     fn sync(&mut self, accesses: &[(Resource, Access)]) {
         let mut buffer_barriers = Vec::new();
         let mut image_barriers = Vec::new();
-        for (resource, access) in accesses {
+        // Reads before writes: where a pass reads and writes one resource through two bindings
+        // (a texel read and a storage write, say), the read's barrier must wait for the
+        // resource's last writer and the write's then covers the read; barriers in one command
+        // do not chain, so the other order would leave the read waiting on this pass's write.
+        let reads = accesses.iter().filter(|(_, access)| !access.writes());
+        let writes = accesses.iter().filter(|(_, access)| access.writes());
+        for (resource, access) in reads.chain(writes) {
             match resource {
                 Resource::Buffer(buffer) => {
                     let mut state = buffer.sync.get();

@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::context::{DeviceShared, Gpu};
+use super::context::{DescriptorLimits, DeviceShared, Gpu};
 use super::reflect::{DescriptorKind, ShaderInterface, reflect};
 use super::{GpuError, GpuResult, vk_err};
 
@@ -139,12 +139,73 @@ impl Drop for ShaderModule<'_> {
     }
 }
 
+/// Refuse a pipeline whose shader stage binds more descriptors of a kind than the device allows
+/// per stage, or more bindings than a push-descriptor set holds.
+fn check_descriptor_limits(
+    limits: &DescriptorLimits,
+    name: &str,
+    interface: &ShaderInterface,
+) -> GpuResult<()> {
+    let count = |kinds: &[DescriptorKind]| {
+        interface
+            .bindings
+            .iter()
+            .filter(|(_, kind)| kinds.contains(kind))
+            .count() as u32
+    };
+    use DescriptorKind as K;
+    let checks = [
+        (
+            "storage buffers",
+            count(&[K::StorageBuffer]),
+            limits.storage_buffers,
+        ),
+        (
+            "uniform buffers",
+            count(&[K::UniformBuffer]),
+            limits.uniform_buffers,
+        ),
+        (
+            "sampled images and uniform texel buffers",
+            count(&[
+                K::SampledImage,
+                K::CombinedImageSampler,
+                K::UniformTexelBuffer,
+            ]),
+            limits.sampled_images,
+        ),
+        (
+            "storage images and storage texel buffers",
+            count(&[K::StorageImage, K::StorageTexelBuffer]),
+            limits.storage_images,
+        ),
+        (
+            "samplers",
+            count(&[K::Sampler, K::CombinedImageSampler]),
+            limits.samplers,
+        ),
+        (
+            "push-descriptor bindings",
+            interface.bindings.len() as u32,
+            limits.push_descriptors,
+        ),
+    ];
+    match checks.into_iter().find(|(_, used, limit)| used > limit) {
+        Some((what, used, limit)) => Err(GpuError::Interface {
+            pass: name.to_string(),
+            message: format!("binds {used} {what}; the device allows {limit}"),
+        }),
+        None => Ok(()),
+    }
+}
+
 fn create_layouts(
     gpu: &Gpu,
     name: &str,
     interface: &ShaderInterface,
     stages: vk::ShaderStageFlags,
 ) -> GpuResult<(vk::DescriptorSetLayout, vk::PipelineLayout)> {
+    check_descriptor_limits(&gpu.info.descriptor_limits, name, interface)?;
     let device = &gpu.shared.device;
     let bindings: Vec<vk::DescriptorSetLayoutBinding> = interface
         .bindings
@@ -407,5 +468,47 @@ impl RasterPipeline {
         core.raw = pipelines[0];
         gpu.shared.set_name(core.raw, name);
         Ok(RasterPipeline { core })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_stage_binding_more_descriptors_of_a_kind_than_the_device_allows_is_refused() {
+        // Vulkan's minimums: 4 storage buffers and 16 sampled images per stage, 32 push
+        // descriptors.
+        let limits = DescriptorLimits {
+            storage_buffers: 4,
+            uniform_buffers: 12,
+            sampled_images: 16,
+            storage_images: 4,
+            samplers: 16,
+            push_descriptors: 32,
+        };
+        let interface = |kinds: &[DescriptorKind]| ShaderInterface {
+            bindings: kinds
+                .iter()
+                .enumerate()
+                .map(|(i, &k)| (i as u32, k))
+                .collect(),
+            ..ShaderInterface::default()
+        };
+        let four = [DescriptorKind::StorageBuffer; 4];
+        assert!(check_descriptor_limits(&limits, "four", &interface(&four)).is_ok());
+        let five = [DescriptorKind::StorageBuffer; 5];
+        let message = match check_descriptor_limits(&limits, "five", &interface(&five)) {
+            Err(e) => e.to_string(),
+            Ok(()) => panic!("five storage buffers passed a limit of four"),
+        };
+        assert!(
+            message.contains("five")
+                && message.contains("binds 5 storage buffers; the device allows 4"),
+            "{message}"
+        );
+        // Uniform texel buffers count as sampled images.
+        let texels = [DescriptorKind::UniformTexelBuffer; 17];
+        assert!(check_descriptor_limits(&limits, "texels", &interface(&texels)).is_err());
     }
 }

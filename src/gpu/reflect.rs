@@ -16,7 +16,9 @@ pub enum DescriptorKind {
     Sampler,
     /// A buffer read through a typed view with texel fetches (`samplerBuffer`).
     UniformTexelBuffer,
-    /// A buffer read and written through a typed view (`imageBuffer`).
+    /// A buffer read and written through a typed view (`imageBuffer`). Told apart so that a
+    /// shader declaring one gets its own descriptor type; no `Binding` binds one yet, so a pass
+    /// over such a shader is refused by the interface check.
     StorageTexelBuffer,
 }
 

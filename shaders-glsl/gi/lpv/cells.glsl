@@ -32,7 +32,7 @@ WRITTEN_CELLS(STEP_DESTINATION_B, DestinationB, destination_b)
 #endif
 
 #if LPV_TEXELS
-layout(binding = STEP_GEOMETRY) uniform samplerBuffer geometry_texels;
+layout(binding = STEP_GEOMETRY) uniform samplerBuffer geometry_cells;
 layout(binding = STEP_SOURCE_R) uniform samplerBuffer source_r;
 layout(binding = STEP_ACCUMULATION_READ_R) uniform samplerBuffer accumulation_read_r;
 WRITTEN_CELLS(STEP_ACCUMULATION_R, AccumulationR, accumulation_r)
@@ -51,7 +51,7 @@ WRITTEN_CELLS(STEP_ACCUMULATION_B, AccumulationB, accumulation_b)
     layout(binding = binding_, std430) readonly buffer block { vec4 name[]; };
 #define ACCUMULATED_CELLS(binding_, block, name) \
     layout(binding = binding_, std430) buffer block { vec4 name[]; };
-READ_CELLS(STEP_GEOMETRY, Geometry, geometry_texels)
+READ_CELLS(STEP_GEOMETRY, Geometry, geometry_cells)
 READ_CELLS(STEP_SOURCE_R, SourceR, source_r)
 ACCUMULATED_CELLS(STEP_ACCUMULATION_R, AccumulationR, accumulation_r)
 #if CHANNELS == 3
@@ -75,7 +75,7 @@ vec4 stored_light(uint k, int c) {
 
 // Word `w` of the geometry of lattice cell `k`.
 vec4 stored_geometry(uint k, uint w) {
-    return READ_CELL(geometry_texels, k * GEOMETRY_WORDS + w);
+    return READ_CELL(geometry_cells, k * GEOMETRY_WORDS + w);
 }
 
 // Cell `i`'s new light in every channel.

@@ -115,7 +115,11 @@ pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
         });
     }
     let path = cache_file();
-    let choice = match path.as_deref().and_then(|p| read_cache(p).remove(&key)) {
+    let cached = path
+        .as_deref()
+        .and_then(|p| read_cache(p).remove(&key))
+        .and_then(|entry| serde_json::from_value::<Choice>(entry).ok());
+    let choice = match cached {
         Some(cached) => Choice {
             source: format!("cached in {}", path.as_deref().unwrap_or(Path::new("")).display()),
             ..cached
@@ -135,7 +139,8 @@ pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
 }
 
 /// Time a propagation of [`STEPS`] steps of every channel with each candidate on a lattice of
-/// these settings.
+/// these settings (all candidates are built first and held together, so that their runs can
+/// alternate: four lattices' memory for the measurement's length).
 fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     let probe = |kernel, plan| {
         let settings = LpvSettings {
@@ -218,7 +223,9 @@ fn cache_file() -> Option<PathBuf> {
     Some(folder.join("kernels.json"))
 }
 
-fn read_cache(path: &Path) -> HashMap<String, Choice> {
+/// The cache's entries, each parsed on its own where it is read: an entry another version of
+/// vkgi wrote in another form is kept, not lost with the file.
+fn read_cache(path: &Path) -> HashMap<String, serde_json::Value> {
     std::fs::read_to_string(path)
         .ok()
         .and_then(|text| serde_json::from_str(&text).ok())
@@ -229,7 +236,10 @@ fn read_cache(path: &Path) -> HashMap<String, Choice> {
 /// reader never sees half of it.
 fn write_cache(path: &Path, key: &str, choice: &Choice) -> std::io::Result<()> {
     let mut all = read_cache(path);
-    all.insert(key.to_string(), choice.clone());
+    all.insert(
+        key.to_string(),
+        serde_json::to_value(choice).map_err(std::io::Error::other)?,
+    );
     if let Some(folder) = path.parent() {
         std::fs::create_dir_all(folder)?;
     }

@@ -17,7 +17,7 @@
 //! an SH lobe, the blocking function, clamp 2): 99 with an SH lobe (594 per cell), 116 with the
 //! projected area (696), 89 with visibility (534).
 //!
-//! A step that carries the three colour channels in one dispatch (`--channels fused`) reads the
+//! A step that carries the three colour channels in one dispatch (`--channel-plan fused`) reads the
 //! geometry once and evaluates the blocking (the function, the clamp and, for LPV's SH lobes,
 //! the mean) once for all three, so per cell and channel its ideal is a third of those: ILPV
 //! 26 × (20 + 9/3) = 598 flops and 80 - 2/3 × 16 bytes with an SH lobe, LPV 6 × (85 + 14/3) = 538.

@@ -499,8 +499,8 @@ pub struct Lpv {
     pub transfer: TransferVectors,
     /// The propagation kernel that runs and how its dispatches carry the channels, and the
     /// autotune's reasons when it chose them.
-    pub kernel: Kernel,
-    pub plan: ChannelPlan,
+    pub(crate) kernel: Kernel,
+    pub(crate) plan: ChannelPlan,
     autotune: Option<autotune::Choice>,
     /// The workgroup tile of the propagation kernel (tiled: the shared-memory tile).
     pub tile: [u32; 3],
@@ -708,7 +708,8 @@ impl Lpv {
             Field::Far => None,
             Field::Whole => Some(Rsm::new(gpu, scene, settings.rsm)?),
         };
-        // The column kernel reads its sources (the lattices and the geometry) as texel buffers.
+        // The column kernel reads its sources (the lattices and the geometry) and the
+        // accumulation as texel buffers.
         let texels = kernel.reads_texels();
         let storage = |name: &str, bytes: usize, texels: bool| match texels {
             true => gpu.create_buffer(&BufferDesc::storage_texels(name, bytes as u64)),
@@ -1223,12 +1224,12 @@ impl Lpv {
             let accumulation = &self.accumulation[channel];
             bindings.push(read(SOURCES[i], &pair[src]));
             bindings.push(Binding::write(DESTINATIONS[i], &pair[1 - src]));
-            // The read before the write: its barrier must wait for the last writer of the
-            // accumulation (the write's barrier then covers this pass's read too).
+            bindings.push(Binding::write(ACCUMULATIONS[i], accumulation));
+            // Read as texels and written as storage in one pass (the recorder orders the
+            // barriers: the read's first).
             if texels {
                 bindings.push(Binding::texels(ACCUMULATION_READS[i], accumulation));
             }
-            bindings.push(Binding::write(ACCUMULATIONS[i], accumulation));
         }
         bindings.push(read(ids::STEP_GEOMETRY, &self.geometry));
         let constants = match self.settings.scheme {
@@ -1271,7 +1272,7 @@ impl Lpv {
                 index: index as u32,
                 label,
             };
-            let channels = self.part_channels(index);
+            let channels = self.part_channels(index)?;
             result = rec.in_part(part, |rec| {
                 for &channel in channels {
                     self.start_accumulation(rec, channel, 0)?;
@@ -1288,11 +1289,16 @@ impl Lpv {
     }
 
     /// The colour channels part `part` carries.
-    fn part_channels(&self, part: usize) -> &'static [usize] {
-        match self.plan {
-            ChannelPlan::Separate => [[0].as_slice(), &[1], &[2]][part.min(2)],
-            ChannelPlan::Fused => &[0, 1, 2],
-        }
+    fn part_channels(&self, part: usize) -> GpuResult<&'static [usize]> {
+        const SEPARATE: [&[usize]; 3] = [&[0], &[1], &[2]];
+        const FUSED: [&[usize]; 1] = [&[0, 1, 2]];
+        let parts = match self.plan {
+            ChannelPlan::Separate => SEPARATE.as_slice(),
+            ChannelPlan::Fused => FUSED.as_slice(),
+        };
+        parts.get(part).copied().ok_or_else(|| {
+            GpuError::Setup(format!("the lattice has {} parts, not a part {part}", parts.len()))
+        })
     }
 
     /// The lattices the lookup would read, per channel.
@@ -1470,7 +1476,7 @@ impl GiMethod for Lpv {
     }
 
     fn record_part(&mut self, rec: &mut Recorder, _ctx: &FrameContext, part: usize) -> GpuResult<()> {
-        let channels = self.part_channels(part);
+        let channels = self.part_channels(part)?;
         self.pending_result = self.merge_and_propagate(rec, channels, self.current)?;
         for &channel in channels {
             self.copy_to_lookup(rec, channel, self.pending_result);
