@@ -562,17 +562,8 @@ fn async_sequential_and_fused_channel_plans_give_the_same_image() {
     assert!(common::mean(&sequential) > 0.0);
     // Injection sums RSM texels with float atomics, whose order the driver's threads decide, so
     // two runs of the same plan agree to rounding, not bit for bit: allow a few ulps of the sum.
-    let brightest = sequential
-        .iter()
-        .flatten()
-        .fold(0.0f32, |max, &v| max.max(v));
     for (name, other) in [("async", &asynchronous), ("fused", &fused)] {
-        let worst = sequential
-            .iter()
-            .flatten()
-            .zip(other.iter().flatten())
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0f32, f32::max);
+        let (worst, brightest) = common::worst_difference(other, &sequential);
         assert!(
             worst <= 1e-5 * brightest,
             "{name} differs from sequential by {worst} (brightest {brightest})"
