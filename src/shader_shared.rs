@@ -21,6 +21,11 @@ shared_constants! {
     /// Workgroup size of 1D passes.
     LINEAR_WORKGROUP: u32 = 64;
 
+    /// Specialisation constant of every shader that includes common/texture.glsl: 0 when no
+    /// material of the scene has an albedo texture, so the texture code is compiled out
+    /// (lavapipe runs both sides of a branch, so a per-pixel test would not skip it).
+    SPEC_SCENE_TEXTURED: u32 = 31;
+
     // ---- shadow and G-buffer rasterisation (vertex pulling) ----
     RASTER_VERTICES: u32 = 0;
     RASTER_TRIANGLES: u32 = 1;

@@ -7,6 +7,9 @@
 // the texels, r | g << 8 | b << 16 | a << 24, row-major from the top row.
 #include "common/scene.glsl"
 
+// False when no material of the scene has a texture (src/shader_shared.rs).
+layout(constant_id = SPEC_SCENE_TEXTURED) const bool SCENE_TEXTURED = true;
+
 float srgb_to_linear(float c) {
     return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
 }
@@ -34,7 +37,7 @@ vec3 sample_albedo_texture(uint index, vec2 uv) {
 // The material's albedo at texture coordinates `uv`: the factor, times the texture if it has one.
 vec3 material_albedo(Material m, vec2 uv) {
     uint texture_plus_one = uint(m.albedo.w);
-    if (texture_plus_one == 0u) return m.albedo.rgb;
+    if (!SCENE_TEXTURED || texture_plus_one == 0u) return m.albedo.rgb;
     return m.albedo.rgb * sample_albedo_texture(texture_plus_one - 1u, uv);
 }
 

@@ -34,6 +34,25 @@ impl Specialization {
     fn value(&self, id: u32) -> Option<u32> {
         self.entries.iter().find(|(i, _)| *i == id).map(|e| e.1)
     }
+    /// The map entries and data of a `vk::SpecializationInfo`, four bytes per constant.
+    fn map(&self) -> (Vec<vk::SpecializationMapEntry>, Vec<u8>) {
+        let entries = self
+            .entries
+            .iter()
+            .enumerate()
+            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
+                constant_id: id,
+                offset: (i * 4) as u32,
+                size: 4,
+            })
+            .collect();
+        let data = self
+            .entries
+            .iter()
+            .flat_map(|&(_, v)| v.to_ne_bytes())
+            .collect();
+        (entries, data)
+    }
 }
 
 /// What every pipeline has: its layout, its interface, and the device to destroy it with.
@@ -88,6 +107,8 @@ pub struct RasterPipelineDesc<'a> {
     /// a quarter pixel beyond the square where the device allows; only on a device with
     /// VK_EXT_conservative_rasterization, see `DeviceInfo`).
     pub conservative: bool,
+    /// Specialisation constants of both stages.
+    pub specialization: &'a Specialization,
 }
 
 fn descriptor_type(kind: DescriptorKind) -> vk::DescriptorType {
@@ -296,21 +317,7 @@ impl ComputePipeline {
             stages,
         };
         let module = ShaderModule::new(&gpu.shared, name, &code)?;
-        let map_entries: Vec<vk::SpecializationMapEntry> = spec
-            .entries
-            .iter()
-            .enumerate()
-            .map(|(i, &(id, _))| vk::SpecializationMapEntry {
-                constant_id: id,
-                offset: (i * 4) as u32,
-                size: 4,
-            })
-            .collect();
-        let data: Vec<u8> = spec
-            .entries
-            .iter()
-            .flat_map(|&(_, v)| v.to_ne_bytes())
-            .collect();
+        let (map_entries, data) = spec.map();
         let spec_info = vk::SpecializationInfo::default()
             .map_entries(&map_entries)
             .data(&data);
@@ -370,18 +377,24 @@ impl RasterPipeline {
             .as_ref()
             .map(|code| ShaderModule::new(&gpu.shared, name, code))
             .transpose()?;
+        let (map_entries, data) = desc.specialization.map();
+        let spec_info = vk::SpecializationInfo::default()
+            .map_entries(&map_entries)
+            .data(&data);
         let mut stage_infos = vec![
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
                 .module(vertex.raw)
-                .name(ENTRY),
+                .name(ENTRY)
+                .specialization_info(&spec_info),
         ];
         if let Some(f) = &fragment {
             stage_infos.push(
                 vk::PipelineShaderStageCreateInfo::default()
                     .stage(vk::ShaderStageFlags::FRAGMENT)
                     .module(f.raw)
-                    .name(ENTRY),
+                    .name(ENTRY)
+                    .specialization_info(&spec_info),
             );
         }
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();

@@ -14,9 +14,7 @@ use ash::vk;
 use glam::Mat4;
 use gpu_allocator::MemoryLocation;
 
-use crate::gpu::{
-    Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Specialization,
-};
+use crate::gpu::{Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult};
 use crate::imageio::HdrImage;
 use crate::scene::Scene;
 use crate::scene::bvh::Bvh;
@@ -252,7 +250,7 @@ impl PathTracer {
             gpu,
             "path trace",
             shaders::REFERENCE_PATHTRACE_COMP,
-            &Specialization::new(),
+            &crate::scene::gpu::texture_specialization(scene),
         )?;
         let bvh = Bvh::build(&scene.mesh);
         let scene_buffers = SceneBuffers::upload(gpu, scene, &scene.lights, 16)?;

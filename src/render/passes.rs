@@ -119,6 +119,7 @@ impl ScenePasses {
                     depth_bias: Some((1.25, 1.75)),
                     additive_blend: false,
                     conservative: false,
+                    specialization: &none,
                 },
             )?,
             gbuffer: RasterPipeline::new(
@@ -132,6 +133,7 @@ impl ScenePasses {
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,
+                    specialization: &crate::scene::gpu::texture_specialization(scene),
                 },
             )?,
             lighting: ComputePipeline::new(

@@ -6,8 +6,17 @@ use glam::camera::rh::{proj::vulkan, view::look_at_mat4};
 use glam::{Mat4, Vec3};
 
 use super::{Light, LightKind, Mesh, Scene};
-use crate::gpu::{Buffer, Gpu, GpuResult};
-use crate::shader_shared::{LIGHT_KIND_COSINE, LIGHT_KIND_POINT, LIGHT_KIND_SPOT};
+use crate::gpu::{Buffer, Gpu, GpuResult, Specialization};
+use crate::shader_shared::{
+    LIGHT_KIND_COSINE, LIGHT_KIND_POINT, LIGHT_KIND_SPOT, SPEC_SCENE_TEXTURED,
+};
+
+/// The specialisation of a shader that includes common/texture.glsl for `scene`: without any
+/// albedo texture, the texture code is compiled out.
+pub fn texture_specialization(scene: &Scene) -> Specialization {
+    let textured = scene.materials.iter().any(|m| m.albedo_texture.is_some());
+    Specialization::new().with_u32(SPEC_SCENE_TEXTURED, u32::from(textured))
+}
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]

@@ -169,6 +169,7 @@ impl Passes {
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,
+                    specialization: &crate::scene::gpu::texture_specialization(scene),
                 },
             )?,
             splat: RasterPipeline::new(
@@ -182,6 +183,7 @@ impl Passes {
                     depth_bias: None,
                     additive_blend: true,
                     conservative: false,
+                    specialization: &none,
                 },
             )?,
         };

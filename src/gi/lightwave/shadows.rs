@@ -85,6 +85,7 @@ impl VplShadows {
                 depth_bias: Some((1.25, 1.75)),
                 additive_blend: false,
                 conservative: false,
+                specialization: &crate::gpu::Specialization::new(),
             },
         )?;
         let views = gpu.create_buffer(&BufferDesc::storage(

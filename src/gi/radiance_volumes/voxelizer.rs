@@ -94,6 +94,7 @@ impl RasterVoxelizer {
                 depth_bias: None,
                 additive_blend: false,
                 conservative,
+                specialization: &crate::gpu::Specialization::new(),
             },
         )?;
         let side = grid.resolution;

@@ -399,6 +399,7 @@ impl Solver {
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,
+                    specialization: &Specialization::new(),
                 },
             )?,
             reflectance_sum: Vec3::ONE / (Vec3::ONE - albedo),

@@ -53,6 +53,7 @@ impl Rsm {
                 depth_bias: None,
                 additive_blend: false,
                 conservative: false,
+                specialization: &crate::scene::gpu::texture_specialization(scene),
             },
         )?;
         let lights = scene.raster_lights();

@@ -48,6 +48,7 @@ impl TriangleIds {
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,
+                    specialization: &crate::gpu::Specialization::new(),
                 },
             )?,
             views: Vec::new(),
