@@ -58,7 +58,6 @@ shared_constants! {
 
     // ---- tone mapping ----
     TONEMAP_HDR_IN: u32 = 0;
-    TONEMAP_LDR_OUT: u32 = 1;
 
     // ---- reference path tracer ----
     REFERENCE_VERTICES: u32 = 0;

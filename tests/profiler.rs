@@ -128,19 +128,19 @@ fn a_pass_whose_bindings_disagree_with_its_shader_fails_naming_the_pass() {
     let frame = small_frame(&gpu);
     let pipeline = ComputePipeline::new(
         &gpu,
-        "tone map",
-        vkgi::shaders::RASTER_TONEMAP_COMP,
+        "anaglyph",
+        vkgi::shaders::VIEW_ANAGLYPH_COMP,
         &Specialization::new(),
     )
     .unwrap();
     let result = gpu.one_shot(|rec| {
         rec.compute(&ComputePass {
-            name: "mis-bound tone map",
+            name: "mis-bound anaglyph",
             pipeline: &pipeline,
-            // Binding 1 (the output image) is missing, and the push constants are absent.
+            // Binding 1 (the right eye) is missing, and the push constants are absent.
             bindings: &[Binding::image_read(
-                vkgi::shader_shared::TONEMAP_HDR_IN,
-                &frame.view().hdr,
+                vkgi::shader_shared::ANAGLYPH_LEFT,
+                &frame.view().ldr,
             )],
             push: &(),
             threads: [32, 24, 1],
@@ -148,85 +148,80 @@ fn a_pass_whose_bindings_disagree_with_its_shader_fails_naming_the_pass() {
     });
     let message = result.unwrap_err().to_string();
     assert!(
-        message.contains("mis-bound tone map") && message.contains("binding 1"),
+        message.contains("mis-bound anaglyph") && message.contains("binding 1"),
         "{message}"
     );
     common::assert_no_validation_errors(&gpu);
 }
 
 vkgi::push_constants! {
-    /// The tone map's 12 bytes of push constants, but as three members instead of two.
-    struct MislaidTonemapPush {
-        width: u32,
-        height: u32,
-        exposure_scale: f32,
+    /// The anaglyph's 24 bytes of push constants, but as six members instead of three.
+    struct MislaidAnaglyphPush {
+        origin_x: i32,
+        origin_y: i32,
+        tile_x: i32,
+        tile_y: i32,
+        size_x: i32,
+        size_y: i32,
     }
 }
 
 #[test]
 fn push_constant_layouts_and_write_intent_are_checked_against_the_shader() {
     let gpu = common::gpu();
-    let scene = Scene::load("cornell").unwrap();
-    let frame = Frame::new(
-        &gpu,
-        &scene,
-        FrameOptions {
-            width: 32,
-            height: 24,
-            ..FrameOptions::default()
-        },
-    )
-    .unwrap();
+    let frame = small_frame(&gpu);
     let pipeline = ComputePipeline::new(
         &gpu,
-        "tone map",
-        vkgi::shaders::RASTER_TONEMAP_COMP,
+        "anaglyph",
+        vkgi::shaders::VIEW_ANAGLYPH_COMP,
         &Specialization::new(),
     )
     .unwrap();
     let view = frame.view();
-    let ids = (
-        vkgi::shader_shared::TONEMAP_HDR_IN,
-        vkgi::shader_shared::TONEMAP_LDR_OUT,
-    );
-    let mislaid = MislaidTonemapPush {
-        width: 32,
-        height: 24,
-        exposure_scale: 1.0,
+    let mislaid = MislaidAnaglyphPush {
+        origin_x: 0,
+        origin_y: 0,
+        tile_x: 32,
+        tile_y: 24,
+        size_x: 32,
+        size_y: 24,
     };
-    let result = gpu.one_shot(|rec| {
-        rec.compute(&ComputePass {
-            name: "mislaid push constants",
-            pipeline: &pipeline,
-            bindings: &[
-                Binding::image_read(ids.0, &view.hdr),
-                Binding::image_write(ids.1, &view.ldr),
-            ],
-            push: &mislaid,
-            threads: [32, 24, 1],
+    let record = |name: &'static str, target: Binding| {
+        use vkgi::shader_shared::{ANAGLYPH_LEFT, ANAGLYPH_RIGHT};
+        gpu.one_shot(|rec| {
+            rec.compute(&ComputePass {
+                name,
+                pipeline: &pipeline,
+                bindings: &[
+                    Binding::image_read(ANAGLYPH_LEFT, &view.ldr),
+                    Binding::image_read(ANAGLYPH_RIGHT, &view.ldr),
+                    target,
+                ],
+                push: &mislaid,
+                threads: [32, 24, 1],
+            })
         })
-    });
-    let message = result.unwrap_err().to_string();
+    };
+    let target = vkgi::shader_shared::ANAGLYPH_TARGET;
+    let message = record(
+        "mislaid push constants",
+        Binding::image_write(target, &view.ldr),
+    )
+    .unwrap_err()
+    .to_string();
     assert!(
-        message.contains("mislaid push constants") && message.contains("3 members in Rust but 2"),
+        message.contains("mislaid push constants") && message.contains("6 members in Rust but 3"),
         "{message}"
     );
     // The output image is written by the shader but declared read: the barrier would be wrong.
-    let result = gpu.one_shot(|rec| {
-        rec.compute(&ComputePass {
-            name: "read-declared output",
-            pipeline: &pipeline,
-            bindings: &[
-                Binding::image_read(ids.0, &view.hdr),
-                Binding::image_read(ids.1, &view.ldr),
-            ],
-            push: &mislaid,
-            threads: [32, 24, 1],
-        })
-    });
-    let message = result.unwrap_err().to_string();
+    let message = record(
+        "read-declared output",
+        Binding::image_read(target, &view.ldr),
+    )
+    .unwrap_err()
+    .to_string();
     assert!(
-        message.contains("binding 1 is declared read, but the shader may write it"),
+        message.contains("binding 2 is declared read, but the shader may write it"),
         "{message}"
     );
     common::assert_no_validation_errors(&gpu);

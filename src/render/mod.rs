@@ -4,6 +4,7 @@
 
 pub mod cost;
 pub mod frame;
+pub mod full_screen;
 pub mod passes;
 pub mod runner;
 pub mod targets;

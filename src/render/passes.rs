@@ -4,6 +4,7 @@
 use ash::vk;
 use glam::Vec3;
 
+use super::full_screen::{Blend, full_screen};
 use super::targets::{GBUFFER_FORMATS, View};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline,
@@ -50,7 +51,6 @@ pub const MAX_SHARED_LIGHTS: usize = 8;
 
 crate::push_constants! {
     struct TonemapPush {
-        size: [u32; 2],
         exposure_scale: f32,
     }
 }
@@ -84,7 +84,7 @@ pub struct ScenePasses {
     shadow: RasterPipeline,
     gbuffer: RasterPipeline,
     lighting: ComputePipeline,
-    tonemap: ComputePipeline,
+    tonemap: RasterPipeline,
 }
 
 impl ScenePasses {
@@ -142,7 +142,14 @@ impl ScenePasses {
                 shaders::RASTER_LIGHTING_COMP,
                 &lighting,
             )?,
-            tonemap: ComputePipeline::new(gpu, TONE_MAP, shaders::RASTER_TONEMAP_COMP, &none)?,
+            tonemap: full_screen(
+                gpu,
+                TONE_MAP,
+                shaders::RASTER_TONEMAP_FRAG,
+                vk::Format::R8G8B8A8_UNORM,
+                Blend::Replace,
+                &none,
+            )?,
         })
     }
 
@@ -259,18 +266,17 @@ impl ScenePasses {
         exposure_ev: f32,
     ) -> GpuResult<()> {
         let push = TonemapPush {
-            size: [view.width(), view.height()],
             exposure_scale: exposure_ev.exp2(),
         };
-        rec.compute(&ComputePass {
+        rec.raster(&RasterPass {
             name: TONE_MAP,
             pipeline: &self.tonemap,
-            bindings: &[
-                Binding::image_read(ids::TONEMAP_HDR_IN, &view.hdr),
-                Binding::image_write(ids::TONEMAP_LDR_OUT, &view.ldr),
-            ],
+            bindings: &[Binding::image_read(ids::TONEMAP_HDR_IN, &view.hdr)],
             push: &push,
-            threads: [view.width(), view.height(), 1],
+            color: &[(&view.ldr, 0, [0.0; 4])],
+            depth: None,
+            draw: Draw::Vertices(3),
+            keep_contents: false,
         })
     }
 }

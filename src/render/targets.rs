@@ -21,6 +21,9 @@ pub const GBUFFER_FORMATS: [vk::Format; 5] = [
     vk::Format::R16G16B16A16_SFLOAT,
 ];
 
+/// Format of a view's linear HDR image.
+pub const HDR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+
 /// The attachments the G-buffer pass writes and lighting passes read.
 pub struct GBuffer {
     /// xyz world position, w = 1 where a surface was hit, 0 for background.
@@ -85,12 +88,22 @@ impl View {
                 vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             )?,
         };
+        // Render targets too: the LPV lookup adds to the HDR image by blending, tone mapping
+        // renders the 8-bit one (src/render/full_screen.rs).
         let storage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
         Ok(View {
             eye,
             gbuffer,
-            hdr: image("hdr radiance", vk::Format::R32G32B32A32_SFLOAT, storage)?,
-            ldr: image("ldr output", vk::Format::R8G8B8A8_UNORM, storage)?,
+            hdr: image(
+                "hdr radiance",
+                HDR_FORMAT,
+                storage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
+            )?,
+            ldr: image(
+                "ldr output",
+                vk::Format::R8G8B8A8_UNORM,
+                storage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
+            )?,
         })
     }
 

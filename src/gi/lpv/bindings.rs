@@ -49,7 +49,6 @@ crate::shared_constants! {
     LOOKUP_LATTICE_R: u32 = 3;
     LOOKUP_LATTICE_G: u32 = 4;
     LOOKUP_LATTICE_B: u32 = 5;
-    LOOKUP_HDR: u32 = 6;
     // Two scales: the far field's lattices (a one-lattice lookup binds its own here too).
     LOOKUP_FAR_LATTICE_R: u32 = 7;
     LOOKUP_FAR_LATTICE_G: u32 = 8;

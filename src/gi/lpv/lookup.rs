@@ -8,9 +8,11 @@ use super::bindings as ids;
 use super::cost;
 use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
-    Binding, ComputePass, ComputePipeline, Gpu, GpuResult, Image, Recorder, Sampler,
+    Binding, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline, Recorder, Sampler,
     Specialization,
 };
+use crate::render::full_screen::{Blend, full_screen};
+use crate::render::targets::HDR_FORMAT;
 use crate::shaders;
 
 /// The pass's name in the profile.
@@ -21,7 +23,6 @@ crate::push_constants! {
         origin_cell: [[f32; 4]; 2],
         dims: [[i32; 4]; 2],
         scale_offset: [[f32; 4]; 2],
-        size: [u32; 2],
     }
 }
 
@@ -55,7 +56,7 @@ impl LookupField<'_> {
 
 /// The lookup pipeline for a number of fields (1 or 2), and its trilinear sampler.
 pub struct Lookup {
-    pipeline: ComputePipeline,
+    pipeline: RasterPipeline,
     /// Trilinear, and transparent black outside the lattice (as if its outside were empty).
     sampler: Sampler,
     fields: usize,
@@ -66,7 +67,14 @@ impl Lookup {
         assert!(matches!(fields, 1 | 2), "the lookup reads one or two fields");
         let spec = Specialization::new().with_u32(0, fields as u32);
         Ok(Lookup {
-            pipeline: ComputePipeline::new(gpu, LOOKUP, shaders::GI_LPV_LOOKUP_COMP, &spec)?,
+            pipeline: full_screen(
+                gpu,
+                LOOKUP,
+                shaders::GI_LPV_LOOKUP_FRAG,
+                HDR_FORMAT,
+                Blend::Add,
+                &spec,
+            )?,
             sampler: gpu
                 .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_BORDER)?,
             fields,
@@ -93,12 +101,11 @@ impl Lookup {
                 [near.scale, near.offset, 0.0, 0.0],
                 [far.scale, far.offset, 0.0, 0.0],
             ],
-            size: [view.width(), view.height()],
         };
         let gb = &view.gbuffer;
         let [r, g, b] = near.images;
         let [far_r, far_g, far_b] = far.images;
-        rec.compute(&ComputePass {
+        rec.raster(&RasterPass {
             name: LOOKUP,
             pipeline: &self.pipeline,
             bindings: &[
@@ -111,10 +118,12 @@ impl Lookup {
                 Binding::sampled(ids::LOOKUP_FAR_LATTICE_R, far_r, &self.sampler),
                 Binding::sampled(ids::LOOKUP_FAR_LATTICE_G, far_g, &self.sampler),
                 Binding::sampled(ids::LOOKUP_FAR_LATTICE_B, far_b, &self.sampler),
-                Binding::image_write(ids::LOOKUP_HDR, &view.hdr),
             ],
             push: &push,
-            threads: [view.width(), view.height(), 1],
+            color: &[(&view.hdr, 0, [0.0; 4])],
+            depth: None,
+            draw: Draw::Vertices(3),
+            keep_contents: true,
         })
     }
 }

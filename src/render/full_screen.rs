@@ -1,0 +1,45 @@
+//! Per-pixel passes as fragment shaders over one full-screen triangle
+//! (shaders-glsl/common/fullscreen.vert), each writing or adding to one render target. On
+//! lavapipe a render target's write (and its blend) costs a fraction of a compute pass's
+//! imageStore (and imageLoad) of the same pixel: docs/performance.md, "Per-pixel passes".
+
+use ash::vk;
+
+use crate::gpu::{Gpu, GpuResult, RasterPipeline, RasterPipelineDesc, Specialization};
+use crate::shaders;
+
+/// What the fragment's output does to the render target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blend {
+    /// It replaces the pixel.
+    Replace,
+    /// It is added to the pixel (one plus one).
+    Add,
+}
+
+/// The pipeline of a per-pixel pass named `name`: `fragment` (a fragment shader that reads
+/// its pixel at `gl_FragCoord.xy`) into one render target of `format`. Draw it with
+/// `Draw::Vertices(3)`.
+pub fn full_screen(
+    gpu: &Gpu,
+    name: &str,
+    fragment: &[u8],
+    format: vk::Format,
+    blend: Blend,
+    specialization: &Specialization,
+) -> GpuResult<RasterPipeline> {
+    RasterPipeline::new(
+        gpu,
+        &RasterPipelineDesc {
+            name,
+            vertex: shaders::COMMON_FULLSCREEN_VERT,
+            fragment: Some(fragment),
+            color_formats: &[format],
+            depth_format: None,
+            depth_bias: None,
+            additive_blend: blend == Blend::Add,
+            conservative: false,
+            specialization,
+        },
+    )
+}
