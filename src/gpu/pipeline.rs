@@ -31,7 +31,8 @@ impl Specialization {
     pub fn with_f32(self, id: u32, value: f32) -> Self {
         self.with_u32(id, value.to_bits())
     }
-    fn value(&self, id: u32) -> Option<u32> {
+    /// The value given to constant `id`, if any.
+    pub(crate) fn value(&self, id: u32) -> Option<u32> {
         self.entries.iter().find(|(i, _)| *i == id).map(|e| e.1)
     }
     /// The map entries and data of a `vk::SpecializationInfo`, four bytes per constant.

@@ -309,6 +309,16 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_texture_code_is_compiled_in_only_for_a_scene_with_a_texture() {
+        let mut scene = Scene::load("cornell").unwrap();
+        let textured = |scene: &Scene| texture_specialization(scene).value(SPEC_SCENE_TEXTURED);
+        assert_eq!(textured(&scene), Some(0));
+        let texture = super::super::Texture::new("white", 1, 1, vec![u32::MAX]).unwrap();
+        scene.materials[0].albedo_texture = Some(std::sync::Arc::new(texture));
+        assert_eq!(textured(&scene), Some(1));
+    }
+
+    #[test]
     fn shadow_view_ranges_follow_the_views_shadow_views_lays_out() {
         let scene = Scene::load("cornell").unwrap();
         let light = |kind| Light {
