@@ -51,7 +51,7 @@ pub fn export(scene: &Scene, stem: &str) -> Exported {
     let mtl_name = format!("{stem}.mtl");
     let material_names = material_names(scene);
     let textures = distinct_textures(scene, stem);
-    let textured = scene.materials.iter().any(|m| m.albedo_texture.is_some());
+    let textured = scene.textured();
     Exported {
         obj_name: format!("{stem}.obj"),
         obj: obj_text(scene, &mtl_name, &material_names, textured),

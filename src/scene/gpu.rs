@@ -14,8 +14,7 @@ use crate::shader_shared::{
 /// The specialisation of a shader that includes common/texture.glsl for `scene`: without any
 /// albedo texture, the texture code is compiled out.
 pub fn texture_specialization(scene: &Scene) -> Specialization {
-    let textured = scene.materials.iter().any(|m| m.albedo_texture.is_some());
-    Specialization::new().with_u32(SPEC_SCENE_TEXTURED, u32::from(textured))
+    Specialization::new().with_u32(SPEC_SCENE_TEXTURED, u32::from(scene.textured()))
 }
 
 #[repr(C)]

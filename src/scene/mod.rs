@@ -343,6 +343,11 @@ impl Scene {
         }
     }
 
+    /// Whether any material has an albedo texture.
+    pub fn textured(&self) -> bool {
+        self.materials.iter().any(|m| m.albedo_texture.is_some())
+    }
+
     /// The distinct albedo textures, in the order the GPU's texture table holds them, and each
     /// material's index into it.
     pub fn textures(&self) -> (Vec<&Arc<Texture>>, Vec<Option<u32>>) {
