@@ -26,6 +26,19 @@ layout(push_constant) uniform Push {
 
 #include "gi/lpv/tile.glsl"
 
+// The neighbours' constants, read by load_step_constants() at the top of main: lavapipe reads
+// a uniform buffer once for a whole SIMD batch only outside every branch and loop, and lane by
+// lane inside them (the column's loop, after a return), which tripled a pass's time.
+vec4 neighbour_transfer[26];
+float neighbour_outscatter[26];
+
+void load_step_constants() {
+    [[unroll]] for (int d = 0; d < 26; ++d) {
+        neighbour_transfer[d] = neighbours[d].transfer;
+        neighbour_outscatter[d] = neighbours[d].outscatter;
+    }
+}
+
 // The d-th of the 26 offsets in {-1,0,1}³ without the centre, x fastest (transfer.rs offsets).
 ivec3 neighbour_offset(int d) {
     int i = d < 13 ? d : d + 1;
@@ -39,15 +52,15 @@ Light gather(ivec3 cell) {
     Light dst = no_light();
     // Unrolled: every neighbour offset (the same x-fastest order as transfer.rs) is a constant.
     [[unroll]] for (int d = 0; d < 26; ++d) {
-        Neighbour n = neighbours[d];
+        vec4 transfer = neighbour_transfer[d];
         ivec3 offset = neighbour_offset(d);
-        float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, n.transfer, offset);
+        float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, transfer, offset);
         float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
         [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
             vec4 src = source_light(cell, -offset, c);
             float outscattered = src.x * pc.scatter_energy;
-            float factor = (max(pc.keep * dot(src, n.transfer), 0.0) + outscattered * n.outscatter) * blocking;
-            dst.c[c] += n.transfer * factor;
+            float factor = (max(pc.keep * dot(src, transfer), 0.0) + outscattered * neighbour_outscatter[d]) * blocking;
+            dst.c[c] += transfer * factor;
         }
     }
     return dst;

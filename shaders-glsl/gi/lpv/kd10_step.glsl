@@ -32,6 +32,23 @@ layout(push_constant) uniform Push {
 
 #include "gi/lpv/tile.glsl"
 
+// The axes' constants, read by load_step_constants() at the top of main: lavapipe reads a
+// uniform buffer once for a whole SIMD batch only outside every branch and loop, and lane by
+// lane inside them (the column's loop, after a return).
+vec4 axis_blocking_transfer[6];
+vec4 face_evaluation[6 * 5];
+vec4 face_lobe[6 * 5];
+
+void load_step_constants() {
+    [[unroll]] for (int a = 0; a < 6; ++a) {
+        axis_blocking_transfer[a] = axes[a].blocking_transfer;
+        [[unroll]] for (int f = 0; f < 5; ++f) {
+            face_evaluation[a * 5 + f] = axes[a].faces[f].evaluation;
+            face_lobe[a * 5 + f] = axes[a].faces[f].lobe;
+        }
+    }
+}
+
 // The a-th axis, from source to this cell: +x, -x, +y, -y, +z, -z (transfer.rs FaceScheme;
 // axes[a].offset holds the same), a constant once the loop is unrolled.
 ivec3 axis_offset(int a) {
@@ -49,13 +66,13 @@ Light gather(ivec3 cell) {
         GeometryWords source = source_geometry(cell, -offset);
         GeometryWords blocker = source;
         if (GEOMETRY_WORDS == 1u) blocker = mean_geometry(source, own_geometry);
-        float blocked = blocking_of(blocker, own_geometry, axes[a].blocking_transfer, offset);
+        float blocked = blocking_of(blocker, own_geometry, axis_blocking_transfer[a], offset);
         float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
         [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
             vec4 src = source_light(cell, -offset, c);
             [[unroll]] for (int f = 0; f < 5; ++f) {
-                float flux = max(dot(src, axes[a].faces[f].evaluation), 0.0) * blocking;
-                dst.c[c] += axes[a].faces[f].lobe * flux;
+                float flux = max(dot(src, face_evaluation[a * 5 + f]), 0.0) * blocking;
+                dst.c[c] += face_lobe[a * 5 + f] * flux;
             }
         }
     }

@@ -5,6 +5,7 @@
 // `void store(ivec3 cell, Light light)`; tile.glsl's mode decides how cells are walked.
 
 void main() {
+    load_step_constants();
 #if LPV_COLUMN
     ivec3 first = ivec3(gl_GlobalInvocationID.xy, gl_GlobalInvocationID.z * COLUMN);
     if (!lattice_inside(first, pc.dims.xyz)) return;
