@@ -23,12 +23,16 @@ layout(push_constant) uniform Push {
 } pc;
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= pc.count) return;
+    // No early return: with the rest under a branch, lavapipe took 2.7x this pass's time to read
+    // the neighbours' uniform buffer and sum (docs/performance.md). An invocation past the
+    // end computes the last cell again (reading it while its own invocation may write it; the
+    // value is discarded) and stores nothing.
+    uint i = min(gl_GlobalInvocationID.x, pc.count - 1u);
     vec4 l = cells[i] * vec4(pc.keep_dc, vec3(pc.keep_directional));
     float moved = 0.0;
     [[unroll]] for (int d = 0; d < 26; ++d) {
         moved += max(dot(l, neighbours[d].transfer), 0.0) * neighbours[d].transfer.x;
     }
-    cells[i] = moved > 0.0 && l.x > 0.0 ? l * (l.x / moved) : l;
+    vec4 compensated = moved > 0.0 && l.x > 0.0 ? l * (l.x / moved) : l;
+    if (gl_GlobalInvocationID.x < pc.count) cells[i] = compensated;
 }

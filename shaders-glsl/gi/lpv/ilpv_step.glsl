@@ -26,9 +26,9 @@ layout(push_constant) uniform Push {
 
 #include "gi/lpv/tile.glsl"
 
-// The neighbours' constants, read by load_step_constants() at the top of main: lavapipe reads
-// a uniform buffer once for a whole SIMD batch only outside every branch and loop, and lane by
-// lane inside them (the column's loop, after a return), which tripled a pass's time.
+// The neighbours' constants, read by load_step_constants() at the top of main, outside every
+// branch and loop: read where they are used, inside the column's loop, they cost lavapipe
+// 1.5x this step's time (docs/performance.md).
 vec4 neighbour_transfer[26];
 float neighbour_outscatter[26];
 

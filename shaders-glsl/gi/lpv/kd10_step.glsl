@@ -32,9 +32,9 @@ layout(push_constant) uniform Push {
 
 #include "gi/lpv/tile.glsl"
 
-// The axes' constants, read by load_step_constants() at the top of main: lavapipe reads a
-// uniform buffer once for a whole SIMD batch only outside every branch and loop, and lane by
-// lane inside them (the column's loop, after a return).
+// The axes' constants, read by load_step_constants() at the top of main, outside every branch
+// and loop: read where they are used, inside the column's loop, they cost lavapipe twice this
+// step's time (docs/performance.md).
 vec4 axis_blocking_transfer[6];
 vec4 face_evaluation[6 * 5];
 vec4 face_lobe[6 * 5];
