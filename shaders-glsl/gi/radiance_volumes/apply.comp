@@ -1,4 +1,5 @@
 #version 460
+#extension GL_EXT_control_flow_attributes : require
 // Cache apply (spec 001 §4.5): each lit pixel's irradiance interpolated trilinearly from the 8
 // corner caches of its cell, each cache's SH irradiance at the pixel's normal clamped to zero
 // first, blended with the next cascade near a decision box's face, and added to the view's HDR
@@ -39,6 +40,14 @@ layout(push_constant) uniform Push {
     uint specular_texels;
 } pc;
 
+// What the settings switch on, fixed when the pipeline is built (passes.rs): lavapipe runs
+// every branch for every pixel, and a loop bounded by a push constant indexes its arrays lane by
+// lane. COEFFICIENTS: the caches' SH coefficients (4 or 9); SPECULAR: indirect specular on;
+// FRONT_ONLY: corners behind the pixel's surface left out.
+layout(constant_id = 0) const uint COEFFICIENTS = 4u;
+layout(constant_id = 1) const bool SPECULAR = false;
+layout(constant_id = 2) const bool FRONT_ONLY = false;
+
 // The caches a glossy pixel blends the maps of, with their weights (both cascades' corners).
 uint map_cache[16];
 float map_weight[16];
@@ -52,7 +61,7 @@ vec3 cache_irradiance(uint index, vec3 n) {
     float y[SH_L2_COEFFICIENTS];
     sh_l2_basis(n, y);
     vec3 e = vec3(0.0);
-    for (uint i = 0u; i < pc.coefficients; ++i) {
+    [[unroll]] for (uint i = 0u; i < COEFFICIENTS; ++i) {
         e += caches[index * pc.stride + 1u + i].rgb * (sh_cosine_convolution(i) * y[i]);
     }
     return max(e, vec3(0.0));
@@ -68,11 +77,11 @@ vec3 interpolate(uint cascade, vec3 p, vec3 n, bool maps, float share, inout uin
     Cascade c = rv_cascade(grid(), cascade);
     vec3 sum = vec3(0.0);
     float weights = 0.0;
-    for (uint k = 0u; k < 8u; ++k) {
+    [[unroll]] for (uint k = 0u; k < 8u; ++k) {
         uvec3 corner = uvec3(k & 1u, (k >> 1) & 1u, k >> 2);
         vec3 axis = mix(1.0 - f, f, vec3(corner));
         float w = axis.x * axis.y * axis.z;
-        if (pc.front_only != 0u) {
+        if (FRONT_ONLY) {
             // A corner behind the pixel's surface may lie inside the object or beyond the wall
             // it belongs to: it is left out (its light would leak or be shadowed by that
             // surface).
@@ -166,7 +175,7 @@ void main() {
     vec3 v = pc.eye_side.xyz - position.xyz;
     v = dot(v, v) > 0.0 ? normalize(v) : n;
     float n_v = dot(n, v);
-    bool maps = pc.specular_side > 0u && any(greaterThan(gloss.rgb, vec3(0.0))) && n_v > 0.0;
+    bool maps = SPECULAR && any(greaterThan(gloss.rgb, vec3(0.0))) && n_v > 0.0;
     uint missing = 0u;
     vec3 e = interpolate(cascade, position.xyz, n, maps, 1.0 - blend, missing);
     if (blend > 0.0) {

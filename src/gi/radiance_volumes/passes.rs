@@ -213,6 +213,15 @@ pub fn specular_texels(side: u32) -> u32 {
     side * side
 }
 
+/// The apply pass's constants (apply.comp): the coefficients a cache keeps, whether indirect
+/// specular is on, whether corners behind the surface are left out.
+fn apply_specialization(settings: &VolumeSettings) -> Specialization {
+    Specialization::new()
+        .with_u32(0, settings.bands.coefficients())
+        .with_u32(1, u32::from(settings.specular > 0))
+        .with_u32(2, u32::from(settings.front_corners))
+}
+
 /// vec4s per cache: its position and its coefficients.
 pub fn stride(bands: Bands) -> u32 {
     1 + bands.coefficients()
@@ -228,7 +237,12 @@ impl Passes {
             vals: compute("rv vals", shaders::GI_RADIANCE_VOLUMES_VALS_COMP)?,
             reduce: compute("rv reduce", shaders::GI_RADIANCE_VOLUMES_REDUCE_COMP)?,
             light: compute("rv light", shaders::GI_RADIANCE_VOLUMES_LIGHT_COMP)?,
-            apply: compute("rv apply", shaders::GI_RADIANCE_VOLUMES_APPLY_COMP)?,
+            apply: ComputePipeline::new(
+                gpu,
+                "rv apply",
+                shaders::GI_RADIANCE_VOLUMES_APPLY_COMP,
+                &apply_specialization(settings),
+            )?,
             voxelize: compute("rv voxelize", shaders::GI_RADIANCE_VOLUMES_VOXELIZE_COMP)?,
             adapt: compute("rv adapt", shaders::GI_RADIANCE_VOLUMES_ADAPT_COMP)?,
             voxel_mips: compute("rv voxel mips", shaders::GI_RADIANCE_VOLUMES_VOXEL_MIPS_COMP)?,
