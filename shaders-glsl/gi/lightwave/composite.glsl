@@ -60,12 +60,11 @@ float tap(uint layer, vec4 clip) {
     vec2 t = uv * vec2(size) - 0.5;
     ivec2 base = ivec2(floor(t));
     vec2 f = t - vec2(base);
-    float lit[4];
-    for (int k = 0; k < 4; ++k) {
-        ivec2 texel = clamp(base + ivec2(k & 1, k >> 1), ivec2(0), size - 1);
-        lit[k] = ndc.z <= texelFetch(vpl_shadow_map, ivec3(texel, int(layer)), 0).r ? 1.0 : 0.0;
-    }
-    return mix(mix(lit[0], lit[1], f.x), mix(lit[2], lit[3], f.x), f.y);
+    // The 2x2 texels from `base` (clamped to the map's edges by the sampler) in one gather at
+    // the corner their centres share: (i0 j1, i1 j1, i1 j0, i0 j0).
+    vec4 g = textureGather(vpl_shadow_map, vec3(vec2(base + 1) / vec2(size), float(layer)), 0);
+    vec4 lit = vec4(lessThanEqual(vec4(ndc.z), g));
+    return mix(mix(lit.w, lit.z, f.x), mix(lit.x, lit.y, f.x), f.y);
 }
 
 // The clip position of p (moved 1.5 texels along n against acne) in VPL shadow map `layer`.
