@@ -5,7 +5,7 @@
 // in scan order wins. Writes the pixel's index, or IC_NONE, to the tile's candidate slot.
 #include "gi/irradiance_cache/ic.glsl"
 
-layout(local_size_x = IC_WORKGROUP) in;
+layout(local_size_x = IC_SELECT_WORKGROUP) in;
 
 layout(binding = IC_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
 layout(binding = IC_SPLAT, rgba32f) readonly uniform image2D splat;
@@ -19,8 +19,8 @@ layout(push_constant) uniform Push {
     uint scan;   // 1: the first miss in scan order; 0: the least covered
 } pc;
 
-shared uint shared_key[IC_WORKGROUP];
-shared uint shared_pixel[IC_WORKGROUP];
+shared uint shared_key[IC_SELECT_WORKGROUP];
+shared uint shared_pixel[IC_SELECT_WORKGROUP];
 
 void main() {
     uint t = gl_LocalInvocationID.x;
@@ -28,7 +28,7 @@ void main() {
     uint best_key = 0xFFFFFFFFu;
     uint best_pixel = uint(IC_NONE);
     uint pixels = pc.tile.x * pc.tile.y;
-    for (uint k = t; k < pixels; k += IC_WORKGROUP) {
+    for (uint k = t; k < pixels; k += IC_SELECT_WORKGROUP) {
         uvec2 pixel = origin + uvec2(k % pc.tile.x, k / pc.tile.x);
         if (any(greaterThanEqual(pixel, pc.size))) continue;
         if (imageLoad(gbuffer_position, ivec2(pixel)).w == 0.0) continue;
@@ -44,7 +44,7 @@ void main() {
     shared_key[t] = best_key;
     shared_pixel[t] = best_pixel;
     barrier();
-    for (uint stride = IC_WORKGROUP / 2u; stride > 0u; stride >>= 1u) {
+    for (uint stride = IC_SELECT_WORKGROUP / 2u; stride > 0u; stride >>= 1u) {
         if (t < stride) {
             uint key = shared_key[t + stride];
             uint index = shared_pixel[t + stride];

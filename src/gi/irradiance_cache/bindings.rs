@@ -21,8 +21,11 @@ crate::shared_constants! {
     IC_SHADOW_MAP: u32 = 16;
     IC_PREVIOUS: u32 = 17;
     IC_DRAWS: u32 = 18;
-    /// Threads of the tile-selection and reduction workgroups.
+    /// Threads of the hemisphere-reduction and snapshot workgroups.
     IC_WORKGROUP: u32 = 256;
+    /// Threads of the tile-selection workgroups: a tile of 8x8 pixels has a thread a pixel
+    /// (lavapipe ran 4 threads a pixel and 9 barriers each 3x slower at 256).
+    IC_SELECT_WORKGROUP: u32 = 64;
     /// No candidate in a tile.
     IC_NONE: u32 = 0xFFFFFFFF;
     /// Smallest inverse weight (spec 003 Alg. 3 EPSILON; cpu::MIN_INVERSE_WEIGHT).

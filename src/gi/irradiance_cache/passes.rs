@@ -374,7 +374,7 @@ impl Passes {
                 accuracy,
                 scan: u32::from(scan),
             },
-            threads: [tiles[0] * ids::IC_WORKGROUP, tiles[1], 1],
+            threads: [tiles[0] * ids::IC_SELECT_WORKGROUP, tiles[1], 1],
         })?;
         let view_projection = view.eye.view_projection;
         // World size of a pixel per unit of distance: 2 tan(fov/2) / height, from the
