@@ -12,6 +12,19 @@ struct Record {
     vec4 translation[3];     // per channel, xyz: ∇_t E
 };
 
+// A record as its nine words, and back (the splat hands a record to its fragments so).
+const int RECORD_WORDS = 9;
+
+vec4[RECORD_WORDS] record_words(Record r) {
+    return vec4[RECORD_WORDS](r.position_harmonic, r.normal_footprint, r.irradiance,
+                              r.rotation[0], r.rotation[1], r.rotation[2],
+                              r.translation[0], r.translation[1], r.translation[2]);
+}
+
+Record record_from_words(vec4 w[RECORD_WORDS]) {
+    return Record(w[0], w[1], w[2], vec4[3](w[3], w[4], w[5]), vec4[3](w[6], w[7], w[8]));
+}
+
 // The cache's counters (Rust: records::CacheState).
 struct CacheState {
     uint count;       // records in the cache

@@ -4,7 +4,6 @@
 // applied when the sums are normalised (normalise.comp), so the buffer holds irradiance.
 #include "gi/irradiance_cache/ic.glsl"
 
-layout(binding = IC_RECORDS, std430) readonly buffer Records { Record records[]; };
 layout(binding = IC_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
 layout(binding = IC_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
 
@@ -18,7 +17,8 @@ layout(push_constant) uniform Push {
     uint generation;
 } pc;
 
-layout(location = 0) flat in uint in_record;
+// The quad's record (splat.vert).
+layout(location = 0) flat in vec4 in_record[RECORD_WORDS];
 layout(location = 0) out vec4 out_splat;
 
 void main() {
@@ -26,7 +26,7 @@ void main() {
     vec4 position = imageLoad(gbuffer_position, pixel);
     if (position.w == 0.0) discard;
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
-    Record record = records[in_record];
+    Record record = record_from_words(in_record);
     Weighting weighting = Weighting(pc.accuracy, pc.smooth_weight, pc.normal_factor);
     float w = record_weight(record, weighting, position.xyz, n);
     if (w <= 0.0) discard;

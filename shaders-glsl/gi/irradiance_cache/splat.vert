@@ -18,7 +18,10 @@ layout(push_constant) uniform Push {
     uint generation;   // records of another generation are gone
 } pc;
 
-layout(location = 0) flat out uint out_record;
+// The record, word by word (position, normal, irradiance, rotation and translation gradients),
+// handed to every fragment of its quad: a fragment reading it from the buffer read it lane by
+// lane on lavapipe.
+layout(location = 0) flat out vec4 out_record[RECORD_WORDS];
 
 const vec2 CORNERS[6] = vec2[6](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
 
@@ -26,12 +29,12 @@ void main() {
     uint index = (pc.round_only == 1u ? state.first : 0u) + gl_VertexIndex / 6;
     uint end = pc.round_only == 1u ? state.end : state.count;
     if (state.generation != pc.generation) end = 0u;
-    out_record = index;
     if (index >= end) {
         gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
         return;
     }
     Record record = records[index];
+    out_record = record_words(record);
     vec3 centre = record.position_harmonic.xyz;
     float radius = pc.accuracy * record.position_harmonic.w;
     vec2 lo = vec2(1e30);
