@@ -59,28 +59,39 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     return g;
 }
 #elif LPV_COLUMN
-// Column: each thread steps along z through COLUMN cells of one (x, y), keeping the 3x3x3 block
-// of source cells around its cell in registers (slots indexed by constant offsets once the
-// neighbour loop is unrolled): a step loads only the 9 cells of the plane ahead.
+// Column: each thread steps along z through COLUMN cells of a bundle of BUNDLE x BUNDLE
+// neighbouring columns, keeping the block of source cells around them, three planes of
+// (BUNDLE + 2)² cells, in registers (slots indexed by constant offsets once the loops are
+// unrolled): a step loads only the plane ahead, once for the whole bundle (ILPV: 9 cells a
+// column for one column, 4 for a bundle of 2x2).
 layout(constant_id = 5) const uint COLUMN = 8u;
-vec4 column_light[27 * CHANNELS];
-GeometryWords column_geometry[27];
+layout(constant_id = 6) const int BUNDLE = 1;
+const int BLOCK_SIDE = BUNDLE + 2;
+const int BLOCK_PLANE = BLOCK_SIDE * BLOCK_SIDE;
+vec4 column_light[3 * BLOCK_PLANE * CHANNELS];
+GeometryWords column_geometry[3 * BLOCK_PLANE];
+// The bundle's column whose cell gather() is computing (step_main.glsl; a constant once its
+// loops are unrolled).
+ivec2 bundle_member;
 
-uint column_slot(ivec3 offset) {
-    return uint((offset.z + 1) * 9 + (offset.y + 1) * 3 + offset.x + 1);
+// The slot of the block cell at `offset` from the bundle's first column, in plane dz = offset.z.
+uint block_slot(ivec3 offset) {
+    return uint((offset.z + 1) * BLOCK_PLANE + (offset.y + 1) * BLOCK_SIDE + offset.x + 1);
 }
 
-// The plane z = cell.z + dz of the block around `cell` into its slots (zero outside); with
-// COLUMN_FACES_ONLY only the plus shape a face-neighbour step reads (5 of the 9 cells).
-void load_plane(ivec3 cell, int dz) {
-    [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
-        [[unroll]] for (int dx = -1; dx <= 1; ++dx) {
+// The plane z = origin.z + dz of the block around the bundle whose first column is at `origin`
+// into its slots (zero outside); with COLUMN_FACES_ONLY only the cells a face-neighbour step
+// reads (the square without its 4 corners).
+void load_plane(ivec3 origin, int dz) {
+    [[unroll]] for (int dy = -1; dy <= BUNDLE; ++dy) {
+        [[unroll]] for (int dx = -1; dx <= BUNDLE; ++dx) {
             // A constant once unrolled: unread corners are left zero and never loaded.
-            bool wanted = COLUMN_FACES_ONLY == 0 || dx == 0 || dy == 0;
-            ivec3 c = cell + ivec3(dx, dy, dz);
+            bool corner = (dx == -1 || dx == BUNDLE) && (dy == -1 || dy == BUNDLE);
+            bool wanted = COLUMN_FACES_ONLY == 0 || !corner;
+            ivec3 c = origin + ivec3(dx, dy, dz);
             bool inside = wanted && lattice_inside(c, pc.dims.xyz);
             uint k = inside ? lattice_index(c, pc.dims.xyz) : 0u;
-            uint slot = column_slot(ivec3(dx, dy, dz));
+            uint slot = block_slot(ivec3(dx, dy, dz));
             [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
                 column_light[slot * CHANNELS + ch] = inside ? stored_light(k, ch) : vec4(0.0);
             }
@@ -93,20 +104,20 @@ void load_plane(ivec3 cell, int dz) {
 
 // Move the block one cell along +z: the planes at dz = 0 and 1 become those at -1 and 0.
 void advance_column() {
-    [[unroll]] for (int slot = 0; slot < 18; ++slot) {
+    [[unroll]] for (int slot = 0; slot < 2 * BLOCK_PLANE; ++slot) {
         [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
-            column_light[slot * CHANNELS + c] = column_light[(slot + 9) * CHANNELS + c];
+            column_light[slot * CHANNELS + c] = column_light[(slot + BLOCK_PLANE) * CHANNELS + c];
         }
-        column_geometry[slot] = column_geometry[slot + 9];
+        column_geometry[slot] = column_geometry[slot + BLOCK_PLANE];
     }
 }
 
 vec4 source_light(ivec3 cell, ivec3 offset, int c) {
-    return column_light[column_slot(offset) * CHANNELS + c];
+    return column_light[block_slot(offset + ivec3(bundle_member, 0)) * CHANNELS + c];
 }
 
 GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
-    return column_geometry[column_slot(offset)];
+    return column_geometry[block_slot(offset + ivec3(bundle_member, 0))];
 }
 #else
 void prepare_sources() {}

@@ -414,9 +414,12 @@ const TILE_CANDIDATES: [[u32; 3]; 6] = [
 const Z_PAD: u32 = 1;
 /// Workgroup of the naive kernels.
 const NAIVE_GROUP: [u32; 3] = [4, 4, 4];
-/// Workgroup of the column kernels: one thread per (x, y), each stepping through
-/// [`column_cells`] cells along z.
+/// Workgroup of the column kernels: one thread per bundle of [`COLUMN_BUNDLE`]² columns, each
+/// stepping through [`column_cells`] cells along z.
 const COLUMN_GROUP: [u32; 3] = [8, 8, 1];
+/// Side of the square bundle of neighbouring columns a column-kernel thread walks at once: the
+/// plane ahead of a 2x2 bundle is 16 cells read once for 4 columns, where one column reads 9.
+const COLUMN_BUNDLE: u32 = 2;
 /// Workgroups a column kernel's dispatch should have at least, to keep every core busy.
 const COLUMN_MIN_WORKGROUPS: u32 = 8;
 
@@ -424,9 +427,15 @@ const COLUMN_MIN_WORKGROUPS: u32 = 8;
 /// whole column (the two planes it starts with are loaded once per column, not per step) unless
 /// that leaves fewer than [`COLUMN_MIN_WORKGROUPS`] workgroups, then the column split evenly.
 pub fn column_cells(dims: [u32; 3]) -> u32 {
-    let across = dims[0].div_ceil(COLUMN_GROUP[0]) * dims[1].div_ceil(COLUMN_GROUP[1]);
+    let [x, y] = column_bundles(dims);
+    let across = x.div_ceil(COLUMN_GROUP[0]) * y.div_ceil(COLUMN_GROUP[1]);
     let pieces = COLUMN_MIN_WORKGROUPS.div_ceil(across).min(dims[2]);
     dims[2].div_ceil(pieces)
+}
+
+/// Bundles of columns a column kernel's threads take across x and y of a lattice of `dims`.
+fn column_bundles(dims: [u32; 3]) -> [u32; 2] {
+    [dims[0].div_ceil(COLUMN_BUNDLE), dims[1].div_ceil(COLUMN_BUNDLE)]
 }
 
 /// Shared memory a tile of `t` cells needs: light (one word per cell and channel) and
@@ -695,7 +704,7 @@ impl Lpv {
             .with_u32(4, geometry_words);
         match kernel {
             Kernel::Tiled => spec = spec.with_u32(3, Z_PAD),
-            Kernel::Column => spec = spec.with_u32(5, column),
+            Kernel::Column => spec = spec.with_u32(5, column).with_u32(6, COLUMN_BUNDLE),
             Kernel::Naive => {}
         }
         let none = Specialization::new();
@@ -1328,10 +1337,14 @@ impl Lpv {
 }
 
 /// Threads a propagation step dispatches over a lattice of `dims` cells: a thread per cell (a
-/// column kernel: per column piece of `column` cells), in whole workgroups of `group`.
+/// column kernel: per piece of `column` cells of a bundle of columns), in whole workgroups of
+/// `group`.
 fn propagation_threads(kernel: Kernel, dims: [u32; 3], group: [u32; 3], column: u32) -> [u32; 3] {
     let threads = match kernel {
-        Kernel::Column => [dims[0], dims[1], dims[2].div_ceil(column)],
+        Kernel::Column => {
+            let [x, y] = column_bundles(dims);
+            [x, y, dims[2].div_ceil(column)]
+        }
         Kernel::Tiled | Kernel::Naive => dims,
     };
     [0, 1, 2].map(|i| threads[i].div_ceil(group[i]) * group[i])
@@ -1562,7 +1575,7 @@ impl GiMethod for Lpv {
             ),
             Kernel::Naive => format!("naive (global memory, workgroup {tx}x{ty}x{tz})"),
             Kernel::Column => format!(
-                "column ({} cells along z per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
+                "column ({} cells along z of {COLUMN_BUNDLE}x{COLUMN_BUNDLE} columns per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
                 column_cells(d.to_array())
             ),
         };
@@ -1597,13 +1610,24 @@ mod tests {
 
     #[test]
     fn column_threads_take_whole_columns_unless_the_cores_would_idle() {
-        assert_eq!(column_cells([32, 32, 32]), 32);
+        // 32x32 bundles of 2x2 columns: 16 workgroups across.
         assert_eq!(column_cells([64, 63, 64]), 64);
         // 4 workgroups across: each column in two halves.
-        assert_eq!(column_cells([16, 16, 16]), 8);
-        assert_eq!(column_cells([9, 9, 9]), 5);
-        // One workgroup across: one cell each, 8 workgroups.
+        assert_eq!(column_cells([32, 32, 32]), 16);
+        assert_eq!(column_cells([32, 31, 32]), 16);
+        // One workgroup across: 8 pieces of each column.
+        assert_eq!(column_cells([16, 16, 16]), 2);
+        assert_eq!(column_cells([9, 9, 9]), 2);
         assert_eq!(column_cells([8, 8, 8]), 1);
         assert_eq!(column_cells([2, 2, 1]), 1);
+    }
+
+    #[test]
+    fn column_threads_cover_the_lattice_in_bundles() {
+        assert_eq!(column_bundles([64, 63, 64]), [32, 32]);
+        assert_eq!(
+            propagation_threads(Kernel::Column, [9, 9, 9], COLUMN_GROUP, column_cells([9, 9, 9])),
+            [8, 8, 5]
+        );
     }
 }
