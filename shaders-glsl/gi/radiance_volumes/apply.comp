@@ -34,8 +34,6 @@ layout(push_constant) uniform Push {
     uint resolution;
     float transition;
     uint stride;
-    uint coefficients;
-    uint front_only;    // leave out corners behind the pixel's surface
     uint specular_side; // side of a cache's hemisphere map (0: no indirect specular)
     uint specular_texels;
 } pc;

@@ -113,8 +113,6 @@ crate::push_constants! {
         resolution: u32,
         transition: f32,
         stride: u32,
-        coefficients: u32,
-        front_only: u32,
         specular_side: u32,
         specular_texels: u32,
     }
@@ -633,8 +631,6 @@ impl Passes {
                 resolution: settings.resolution,
                 transition: settings.transition,
                 stride: stride(settings.bands),
-                coefficients: settings.bands.coefficients(),
-                front_only: u32::from(settings.front_corners),
                 specular_side: settings.specular,
                 specular_texels: specular_texels(settings.specular),
             },
