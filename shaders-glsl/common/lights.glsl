@@ -80,6 +80,14 @@ uint shadow_view_index(Light light, vec3 p) {
     return light.shadow.x + shadow_face(light, p);
 }
 
+// The depths of the 2x2 texels from `base` in layer `layer` of a map of `size` texels, in one
+// gather at the corner their centres share, as (i0 j1, i1 j1, i1 j0, i0 j0). The map must be
+// bound with a clamp-to-edge sampler without depth comparison (the frame's shadow sampler):
+// texels past the map's edges read its edge.
+vec4 gather_texels(sampler2DArray map, ivec2 base, ivec2 size, uint layer) {
+    return textureGather(map, vec3(vec2(base + 1) / vec2(size), float(layer)), 0);
+}
+
 // Fraction of the light reaching `p` (normal `n`), from a 3x3 bilinear PCF of the shadow map
 // (a 4x4-texel tent). The lookup point is pushed along the normal by 1.5 shadow texels.
 // `shadow_map` must be bound with a clamp-to-edge sampler without depth comparison (the frame's
@@ -98,14 +106,12 @@ float shadow_visibility(sampler2DArray shadow_map, ShadowView view, uint layer, 
     vec2 f = t - vec2(base);
     float wx[4] = float[4](1.0 - f.x, 1.0, 1.0, f.x);
     float wy[4] = float[4](1.0 - f.y, 1.0, 1.0, f.y);
-    // The 4x4 texels around `base` (clamped to the map's edges by the sampler), as four 2x2
-    // gathers: occluder[j][i] is texel base + (i - 1, j - 1). A gather at the corner shared by
-    // four texel centres returns them as (i0 j1, i1 j1, i1 j0, i0 j0).
+    // The 4x4 texels around `base` as four 2x2 gathers: occluder[j][i] is texel
+    // base + (i - 1, j - 1).
     float occluder[4][4];
     for (int gj = 0; gj < 2; ++gj) {
         for (int gi = 0; gi < 2; ++gi) {
-            vec2 corner = vec2(base + ivec2(2 * gi, 2 * gj));
-            vec4 g = textureGather(shadow_map, vec3(corner / vec2(size), float(layer)), 0);
+            vec4 g = gather_texels(shadow_map, base + ivec2(2 * gi - 1, 2 * gj - 1), size, layer);
             occluder[2 * gj + 1][2 * gi] = g.x;
             occluder[2 * gj + 1][2 * gi + 1] = g.y;
             occluder[2 * gj][2 * gi + 1] = g.z;

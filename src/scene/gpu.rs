@@ -312,7 +312,7 @@ mod tests {
         let mut scene = Scene::load("cornell").unwrap();
         let textured = |scene: &Scene| texture_specialization(scene).value(SPEC_SCENE_TEXTURED);
         assert_eq!(textured(&scene), Some(0));
-        let texture = super::super::Texture::new("white", 1, 1, vec![u32::MAX]).unwrap();
+        let texture = crate::scene::Texture::new("white", 1, 1, vec![u32::MAX]).unwrap();
         scene.materials[0].albedo_texture = Some(std::sync::Arc::new(texture));
         assert_eq!(textured(&scene), Some(1));
     }

@@ -60,10 +60,7 @@ float tap(uint layer, vec4 clip) {
     vec2 t = uv * vec2(size) - 0.5;
     ivec2 base = ivec2(floor(t));
     vec2 f = t - vec2(base);
-    // The 2x2 texels from `base` (clamped to the map's edges by the sampler) in one gather at
-    // the corner their centres share: (i0 j1, i1 j1, i1 j0, i0 j0).
-    vec4 g = textureGather(vpl_shadow_map, vec3(vec2(base + 1) / vec2(size), float(layer)), 0);
-    vec4 lit = vec4(lessThanEqual(vec4(ndc.z), g));
+    vec4 lit = vec4(lessThanEqual(vec4(ndc.z), gather_texels(vpl_shadow_map, base, size, layer)));
     return mix(mix(lit.w, lit.z, f.x), mix(lit.x, lit.y, f.x), f.y);
 }
 

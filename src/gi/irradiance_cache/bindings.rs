@@ -23,8 +23,8 @@ crate::shared_constants! {
     IC_DRAWS: u32 = 18;
     /// Threads of the hemisphere-reduction and snapshot workgroups.
     IC_WORKGROUP: u32 = 256;
-    /// Threads of the tile-selection workgroups: a tile of 8x8 pixels has a thread a pixel
-    /// (lavapipe ran 4 threads a pixel and 9 barriers each 3x slower at 256).
+    /// Threads of the tile-selection workgroups: the smallest tile (8x8 pixels) gets a thread
+    /// a pixel (at 256 it had four, and two more barriers; 3-4x slower on lavapipe).
     IC_SELECT_WORKGROUP: u32 = 64;
     /// No candidate in a tile.
     IC_NONE: u32 = 0xFFFFFFFF;
