@@ -29,7 +29,9 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
-use super::technique::{ChannelPlan, Field, Kernel, Lpv, LpvSettings, propagation_spirv};
+use super::technique::{
+    ChannelPlan, Field, Kernel, Lpv, LpvSettings, compensate_spirv, propagation_spirv,
+};
 use crate::gi::registry::Setup;
 
 /// Measured propagations per kernel (after one warm-up); the fastest counts.
@@ -201,8 +203,9 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
     let spirv = candidates
         .iter()
         .fold(crate::digest::FNV_OFFSET, |h, &(kernel, plan)| {
-            let spirv = propagation_spirv(settings.scheme, kernel, plan);
-            crate::digest::fnv1a(spirv.iter().copied(), h)
+            let step = propagation_spirv(settings.scheme, kernel, plan);
+            let compensate = compensate_spirv(plan, kernel.reads_texels());
+            crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
         "{} | {} | {:?} | lattice {} | {} words | {candidates:?} | {spirv:016x}",

@@ -20,8 +20,15 @@ crate::shared_constants! {
     // ---- ILPV merge and clamp compensation ----
     MERGE_CURRENT: u32 = 0;
     MERGE_PREVIOUS: u32 = 1;
-    COMPENSATE_CELLS: u32 = 0;
-    COMPENSATE_NEIGHBOURS: u32 = 1;
+    // Compensation: one channel (the _R bindings) or all three; the cells written as storage
+    // and, where the lattices have texel views, read as texels.
+    COMPENSATE_CELLS_R: u32 = 0;
+    COMPENSATE_CELLS_G: u32 = 1;
+    COMPENSATE_CELLS_B: u32 = 2;
+    COMPENSATE_READ_R: u32 = 3;
+    COMPENSATE_READ_G: u32 = 4;
+    COMPENSATE_READ_B: u32 = 5;
+    COMPENSATE_NEIGHBOURS: u32 = 6;
 
     // ---- propagation: 26-neighbour ILPV and 6-neighbour LPV, one colour channel a dispatch
     // (the _R bindings) or all three ----

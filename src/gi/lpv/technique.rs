@@ -477,6 +477,17 @@ pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &
     }
 }
 
+/// The SPIR-V of ILPV's clamp compensation for a channel plan, reading texels where the
+/// kernel's lattices have texel views.
+pub fn compensate_spirv(plan: ChannelPlan, texels: bool) -> &'static [u8] {
+    match (plan, texels) {
+        (ChannelPlan::Separate, false) => shaders::GI_LPV_COMPENSATE_COMP,
+        (ChannelPlan::Separate, true) => shaders::GI_LPV_COMPENSATE_TEXELS_COMP,
+        (ChannelPlan::Fused, false) => shaders::GI_LPV_COMPENSATE_RGB_COMP,
+        (ChannelPlan::Fused, true) => shaders::GI_LPV_COMPENSATE_RGB_TEXELS_COMP,
+    }
+}
+
 /// The colour channels: the method's independent parts when each has its own dispatches.
 const CHANNELS: [&str; 3] = ["R", "G", "B"];
 /// The one part of a plan that carries the three channels together.
@@ -818,7 +829,7 @@ impl Lpv {
             compensate_pipeline: ComputePipeline::new(
                 gpu,
                 "compensate",
-                shaders::GI_LPV_COMPENSATE_COMP,
+                compensate_spirv(plan, texels),
                 &none,
             )?,
             propagate_pipeline,
@@ -1151,21 +1162,13 @@ impl Lpv {
                         keep_dc: (1.0 - absorption) as f32,
                         keep_directional: (1.0 - absorption - scattering) as f32,
                     };
-                    for &channel in channels {
-                        rec.compute(&ComputePass {
-                            name: "compensate",
-                            pipeline: &self.compensate_pipeline,
-                            bindings: &[
-                                Binding::write(
-                                    ids::COMPENSATE_CELLS,
-                                    &self.lattices[channel][src],
-                                ),
-                                Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours),
-                            ],
-                            push: &push,
-                            threads: [cells, 1, 1],
-                        })?;
-                    }
+                    rec.compute(&ComputePass {
+                        name: "compensate",
+                        pipeline: &self.compensate_pipeline,
+                        bindings: &self.compensate_bindings(channels, src),
+                        push: &push,
+                        threads: [cells, 1, 1],
+                    })?;
                     (0.0, 0.0)
                 } else {
                     (absorption, scattering)
@@ -1199,6 +1202,33 @@ impl Lpv {
                 })
             }
         }
+    }
+
+    /// What the clamp compensation of `channels` binds: per channel (at the _R, _G, _B bindings
+    /// in turn) its source `src`, written in place, and read as texels where the lattices have
+    /// texel views; the neighbours' constants.
+    fn compensate_bindings(&self, channels: &[usize], src: usize) -> Vec<Binding<'_>> {
+        const CELLS: [u32; 3] = [
+            ids::COMPENSATE_CELLS_R,
+            ids::COMPENSATE_CELLS_G,
+            ids::COMPENSATE_CELLS_B,
+        ];
+        const READS: [u32; 3] = [
+            ids::COMPENSATE_READ_R,
+            ids::COMPENSATE_READ_G,
+            ids::COMPENSATE_READ_B,
+        ];
+        let mut bindings = Vec::with_capacity(2 * channels.len() + 1);
+        for (i, &channel) in channels.iter().enumerate() {
+            let cells = &self.lattices[channel][src];
+            bindings.push(Binding::write(CELLS[i], cells));
+            // Read as texels and written as storage in one pass, as the step's accumulation.
+            if self.kernel.reads_texels() {
+                bindings.push(Binding::texels(READS[i], cells));
+            }
+        }
+        bindings.push(Binding::uniform(ids::COMPENSATE_NEIGHBOURS, &self.neighbours));
+        bindings
     }
 
     /// What a step of `channels` binds: per channel (at the _R, _G, _B bindings in turn) its
