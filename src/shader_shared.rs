@@ -33,6 +33,10 @@ shared_constants! {
     RASTER_TEXTURES: u32 = 3;
 
     // ---- deferred direct lighting ----
+    /// Flat varyings (vec4 words) that carry the shared lights and their shadow views from
+    /// raster/lighting.vert to raster/lighting.frag: 4 words a light, 5 a view. 15 words (60
+    /// components) fit every Vulkan device's vertex outputs and fragment inputs (at least 64).
+    LIGHTING_VARYING_WORDS: u32 = 15;
     LIGHTING_GBUFFER_POSITION: u32 = 0;
     LIGHTING_GBUFFER_NORMAL: u32 = 1;
     LIGHTING_GBUFFER_ALBEDO: u32 = 2;

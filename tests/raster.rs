@@ -262,6 +262,52 @@ fn shared_and_looped_lights_give_the_same_direct_light() {
     );
 }
 
+/// Direct lighting is a fragment pass when the shared lights and their shadow views fit its
+/// flat varyings (one narrow spot: the Cornell box), a compute pass otherwise. Both must give the
+/// same bits: the Cornell box with glossy and plain materials under its spot, against the same
+/// scene with dark lights added past the shared limit (the compute pass's loop).
+#[test]
+fn fragment_and_compute_direct_lighting_give_the_same_image() {
+    use vkgi::scene::{Light, LightKind};
+    let gpu = common::gpu();
+    let mut scene = Scene::load("cornell").unwrap();
+    for (i, material) in scene.materials.iter_mut().enumerate() {
+        if i % 2 == 0 {
+            material.albedo *= 0.5;
+            material.specular = Vec3::splat(0.4);
+            material.roughness = 0.3;
+        }
+    }
+    let (fragment_frame, fragment) = common::render(&gpu, &scene, 96, 72);
+    assert!(
+        fragment_frame
+            .direct_lighting()
+            .starts_with("fragment pass"),
+        "the Cornell box's spot should be lit by the fragment pass: {}",
+        fragment_frame.direct_lighting()
+    );
+    let dark = Light {
+        position: Vec3::new(0.2, 0.4, 0.3),
+        kind: LightKind::Point,
+        flux: 0.0,
+        color: Vec3::ONE,
+    };
+    scene.lights.extend(std::iter::repeat_n(
+        dark,
+        vkgi::render::passes::MAX_SHARED_LIGHTS,
+    ));
+    let (compute_frame, compute) = common::render(&gpu, &scene, 96, 72);
+    assert!(compute_frame.direct_lighting().starts_with("compute pass"));
+    common::assert_no_validation_errors(&gpu);
+    let lit = fragment
+        .iter()
+        .filter(|p| common::luminance(**p) > 1e-3)
+        .count();
+    // The spot's cone lights the floor, the blocks and the walls' lower parts.
+    assert!(lit > fragment.len() / 5, "only {lit} lit pixels");
+    assert_eq!(fragment, compute, "the fragment and compute passes differ");
+}
+
 #[test]
 fn two_rooms_scene_renders_its_lit_room() {
     let gpu = common::gpu();

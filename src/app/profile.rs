@@ -101,6 +101,8 @@ pub struct ProfileResult {
     pub device: String,
     pub driver: String,
     pub queue_plan: String,
+    /// How the frame's direct lighting runs (src/render/passes.rs).
+    pub direct_lighting: String,
     pub limits: DeviceLimits,
     pub configs: Vec<ConfigSummary>,
     pub passes: Vec<PassRow>,
@@ -302,6 +304,7 @@ pub fn run(
         device: gpu.info.name.clone(),
         driver: gpu.info.driver.clone(),
         queue_plan: gpu.queues.describe(),
+        direct_lighting: frame.direct_lighting(),
         limits,
         configs,
         passes,
@@ -383,6 +386,7 @@ impl ProfileResult {
         let _ = writeln!(out, "{}", self.scene);
         let _ = writeln!(out, "device: {} ({})", self.device, self.driver);
         let _ = writeln!(out, "queue plan: {}", self.queue_plan);
+        let _ = writeln!(out, "direct lighting: {}", self.direct_lighting);
         let _ = writeln!(
             out,
             "device limits: {:.3} GB/s copy bandwidth, {:.2} GFLOP/s FMA rate",

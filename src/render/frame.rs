@@ -252,6 +252,11 @@ impl Frame {
         self.changes = Changes::ALL;
     }
 
+    /// How the frame's direct lighting runs (its form, where its lights are read).
+    pub fn direct_lighting(&self) -> String {
+        self.passes.describe_direct_lighting()
+    }
+
     /// How this frame submits a method's parts (after resolving `SubmitPlan::Auto`).
     pub fn submit_plan(&self) -> SubmitPlan {
         if self.asynchronous {

@@ -5,7 +5,7 @@ use ash::vk;
 use glam::Vec3;
 
 use super::full_screen::{Blend, full_screen};
-use super::targets::{GBUFFER_FORMATS, View};
+use super::targets::{GBUFFER_FORMATS, HDR_FORMAT, View};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder, Sampler, Specialization,
@@ -76,6 +76,23 @@ impl MaterialTerms {
     }
 }
 
+/// Direct lighting's two forms (raster/direct.glsl): the same radiance.
+enum DirectLighting {
+    /// A compute pass: any number of lights, read from their buffers.
+    Compute(ComputePipeline),
+    /// A fragment pass over a full-screen triangle whose vertex shader hands the shared lights
+    /// and their views to the fragments as flat varyings: on lavapipe a render target's write
+    /// costs less than an imageStore (docs/performance.md).
+    Fragment(RasterPipeline),
+}
+
+/// The flat varyings (vec4 words) the fragment form needs for `shared_light_views`: 4 a light
+/// and 5 a view, every light with as many views as the one with most (raster/light_words.glsl).
+fn light_varying_words(shared_light_views: &[(u32, u32)]) -> u32 {
+    let most_views = shared_light_views.iter().map(|v| v.1).max().unwrap_or(1);
+    shared_light_views.len() as u32 * (4 + 5 * most_views)
+}
+
 /// The pipelines of the frame's own passes.
 pub struct ScenePasses {
     /// The shared lights' shadow views (first, count), when direct lighting reads the lights at
@@ -83,15 +100,16 @@ pub struct ScenePasses {
     shared_light_views: Vec<(u32, u32)>,
     shadow: RasterPipeline,
     gbuffer: RasterPipeline,
-    lighting: ComputePipeline,
+    lighting: DirectLighting,
     tonemap: RasterPipeline,
 }
 
 impl ScenePasses {
     /// The frame's pipelines for `scene` lit by `raster_lights`: direct lighting leaves out
     /// emission or the glossy lobe when no material has it (lavapipe would run that code for
-    /// every pixel), and reads up to [`MAX_SHARED_LIGHTS`] lights at constant indices. The
-    /// lights may move later but not change in number or shadow views.
+    /// every pixel), reads up to [`MAX_SHARED_LIGHTS`] lights at constant indices, and is a
+    /// fragment pass when those lights and their views fit its varyings. The lights may move
+    /// later but not change in number or shadow views.
     pub fn new(gpu: &Gpu, scene: &Scene, raster_lights: &[Light]) -> GpuResult<ScenePasses> {
         let none = Specialization::new();
         let terms = MaterialTerms::of(scene);
@@ -107,6 +125,7 @@ impl ScenePasses {
             .with_u32(2, shared_light_views.len() as u32)
             .with_u32(3, most_views);
         Ok(ScenePasses {
+            lighting: direct_lighting(gpu, &shared_light_views, &lighting)?,
             shared_light_views,
             shadow: RasterPipeline::new(
                 gpu,
@@ -136,12 +155,6 @@ impl ScenePasses {
                     specialization: &crate::scene::gpu::texture_specialization(scene),
                 },
             )?,
-            lighting: ComputePipeline::new(
-                gpu,
-                DIRECT_LIGHTING,
-                shaders::RASTER_LIGHTING_COMP,
-                &lighting,
-            )?,
             tonemap: full_screen(
                 gpu,
                 TONE_MAP,
@@ -151,6 +164,22 @@ impl ScenePasses {
                 &none,
             )?,
         })
+    }
+
+    /// How direct lighting runs, for the profile.
+    pub fn describe_direct_lighting(&self) -> String {
+        let lights = self.shared_light_views.len();
+        match self.lighting {
+            DirectLighting::Fragment(_) => format!(
+                "fragment pass, {lights} light(s) and their shadow views in {} of {} flat varyings",
+                light_varying_words(&self.shared_light_views),
+                ids::LIGHTING_VARYING_WORDS
+            ),
+            DirectLighting::Compute(_) if lights > 0 => {
+                format!("compute pass, {lights} light(s) read at constant indices")
+            }
+            DirectLighting::Compute(_) => "compute pass, the lights read in a loop".into(),
+        }
     }
 
     /// Shadow maps: one depth layer per shadow view.
@@ -239,10 +268,8 @@ impl ScenePasses {
             push.first_view[i] = first;
             push.view_count[i] = count;
         }
-        rec.compute(&ComputePass {
-            name: DIRECT_LIGHTING,
-            pipeline: &self.lighting,
-            bindings: &[
+        let inputs = || {
+            vec![
                 Binding::image_read(ids::LIGHTING_GBUFFER_POSITION, &g.position),
                 Binding::image_read(ids::LIGHTING_GBUFFER_NORMAL, &g.normal),
                 Binding::image_read(ids::LIGHTING_GBUFFER_ALBEDO, &g.albedo),
@@ -251,11 +278,31 @@ impl ScenePasses {
                 Binding::sampled(ids::LIGHTING_SHADOW_MAP, shadows.0, shadows.1),
                 Binding::read(ids::LIGHTING_LIGHTS, &scene.lights),
                 Binding::read(ids::LIGHTING_SHADOW_VIEWS, &scene.shadow_views),
-                Binding::image_write(ids::LIGHTING_HDR_OUT, &view.hdr),
-            ],
-            push: &push,
-            threads: [view.width(), view.height(), 1],
-        })
+            ]
+        };
+        match &self.lighting {
+            DirectLighting::Compute(pipeline) => {
+                let mut bindings = inputs();
+                bindings.push(Binding::image_write(ids::LIGHTING_HDR_OUT, &view.hdr));
+                rec.compute(&ComputePass {
+                    name: DIRECT_LIGHTING,
+                    pipeline,
+                    bindings: &bindings,
+                    push: &push,
+                    threads: [view.width(), view.height(), 1],
+                })
+            }
+            DirectLighting::Fragment(pipeline) => rec.raster(&RasterPass {
+                name: DIRECT_LIGHTING,
+                pipeline,
+                bindings: &inputs(),
+                push: &push,
+                color: &[(&view.hdr, 0, [0.0; 4])],
+                depth: None,
+                draw: Draw::Vertices(3),
+                keep_contents: false,
+            }),
+        }
     }
 
     /// Exposure, tone mapping and sRGB encoding into a view's 8-bit output.
@@ -279,4 +326,36 @@ impl ScenePasses {
             keep_contents: false,
         })
     }
+}
+
+/// Direct lighting's pipeline: the fragment form where the shared lights' varyings fit, else
+/// the compute form.
+fn direct_lighting(
+    gpu: &Gpu,
+    shared_light_views: &[(u32, u32)],
+    specialization: &Specialization,
+) -> GpuResult<DirectLighting> {
+    let words = light_varying_words(shared_light_views);
+    if shared_light_views.is_empty() || words > ids::LIGHTING_VARYING_WORDS {
+        return Ok(DirectLighting::Compute(ComputePipeline::new(
+            gpu,
+            DIRECT_LIGHTING,
+            shaders::RASTER_LIGHTING_COMP,
+            specialization,
+        )?));
+    }
+    Ok(DirectLighting::Fragment(RasterPipeline::new(
+        gpu,
+        &RasterPipelineDesc {
+            name: DIRECT_LIGHTING,
+            vertex: shaders::RASTER_LIGHTING_VERT,
+            fragment: Some(shaders::RASTER_LIGHTING_FRAG),
+            color_formats: &[HDR_FORMAT],
+            depth_format: None,
+            depth_bias: None,
+            additive_blend: false,
+            conservative: false,
+            specialization,
+        },
+    )?))
 }
