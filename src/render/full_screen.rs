@@ -28,12 +28,37 @@ pub fn full_screen(
     blend: Blend,
     specialization: &Specialization,
 ) -> GpuResult<RasterPipeline> {
+    let shaders = FullScreenShaders {
+        vertex: shaders::COMMON_FULLSCREEN_VERT,
+        fragment,
+    };
+    full_screen_with(gpu, name, shaders, format, blend, specialization)
+}
+
+/// A per-pixel pass's shaders: the full-screen triangle's vertex shader (common/fullscreen.vert,
+/// or one that also hands the fragments data every pixel shares as flat varyings: a fragment
+/// shader reads push constants and buffers lane by lane on lavapipe) and the fragment shader.
+#[derive(Clone, Copy)]
+pub struct FullScreenShaders<'a> {
+    pub vertex: &'a [u8],
+    pub fragment: &'a [u8],
+}
+
+/// [`full_screen`] with a vertex shader of its own.
+pub fn full_screen_with(
+    gpu: &Gpu,
+    name: &str,
+    shaders: FullScreenShaders,
+    format: vk::Format,
+    blend: Blend,
+    specialization: &Specialization,
+) -> GpuResult<RasterPipeline> {
     RasterPipeline::new(
         gpu,
         &RasterPipelineDesc {
             name,
-            vertex: shaders::COMMON_FULLSCREEN_VERT,
-            fragment: Some(fragment),
+            vertex: shaders.vertex,
+            fragment: Some(shaders.fragment),
             color_formats: &[format],
             depth_format: None,
             depth_bias: None,

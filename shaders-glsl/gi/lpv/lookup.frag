@@ -9,6 +9,7 @@
 // pass's imageLoad and imageStore of the same pixel (docs/performance.md).
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"
+#include "gi/lpv/lookup_fields.glsl"
 
 // 1: one lattice; 2: the near and the far field of two scales.
 layout(constant_id = 0) const uint FIELDS = 1u;
@@ -27,18 +28,17 @@ layout(binding = LOOKUP_FAR_LATTICE_B) uniform sampler3D far_lattice_b;
 // Added to the HDR image by the blend (one plus one).
 layout(location = 0) out vec4 out_indirect;
 
-layout(push_constant) uniform Push {
-    vec4 origin_cell[2];   // per field: xyz lattice origin, w cell size
-    ivec4 dims[2];
-    vec4 scale_offset[2];  // x: 1 / (pi cell²) times the method's scale; y: the offset in cells
-} pc;
+// The fields' constants (lpv/lookup_fields.glsl), the same for every fragment.
+layout(location = 0) flat in vec4 fields[FIELD_WORDS];
 
 // Field `f`'s intensity toward the surface at `position` (normal `n`), clamped at zero.
-vec3 field_light(uint f, sampler3D r, sampler3D g, sampler3D b, vec3 position, vec3 n, vec4 lobe) {
-    vec4 origin_cell = pc.origin_cell[f];
-    vec3 p = position + n * (pc.scale_offset[f].y * origin_cell.w);
+vec3 field_light(int f, sampler3D r, sampler3D g, sampler3D b, vec3 position, vec3 n, vec4 lobe) {
+    vec4 origin_cell = fields[3 * f];
+    vec3 dims = fields[3 * f + 1].xyz;
+    vec4 scale_offset = fields[3 * f + 2];
+    vec3 p = position + n * (scale_offset.y * origin_cell.w);
     // Cell c's centre lies at texture coordinate (c + 0.5) / dims.
-    vec3 t = (p - origin_cell.xyz) / (origin_cell.w * vec3(pc.dims[f].xyz));
+    vec3 t = (p - origin_cell.xyz) / (origin_cell.w * dims);
     vec3 incident = vec3(dot(textureLod(r, t, 0.0), lobe),
                          dot(textureLod(g, t, 0.0), lobe),
                          dot(textureLod(b, t, 0.0), lobe));
@@ -51,11 +51,11 @@ void main() {
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
     vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
     vec4 lobe = sh_cosine_lobe(-n);
-    vec3 value = albedo * field_light(0u, lattice_r, lattice_g, lattice_b, position.xyz, n, lobe)
-                 * pc.scale_offset[0].x;
+    vec3 value = albedo * field_light(0, lattice_r, lattice_g, lattice_b, position.xyz, n, lobe)
+                 * fields[2].x;
     if (FIELDS > 1u) {
-        value += albedo * field_light(1u, far_lattice_r, far_lattice_g, far_lattice_b,
-                                      position.xyz, n, lobe) * pc.scale_offset[1].x;
+        value += albedo * field_light(1, far_lattice_r, far_lattice_g, far_lattice_b,
+                                      position.xyz, n, lobe) * fields[5].x;
     }
     // Background pixels (w = 0) get nothing.
     out_indirect = vec4(position.w != 0.0 ? value : vec3(0.0), 0.0);

@@ -11,7 +11,7 @@ use crate::gpu::{
     Binding, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline, Recorder, Sampler,
     Specialization,
 };
-use crate::render::full_screen::{Blend, full_screen};
+use crate::render::full_screen::{Blend, FullScreenShaders, full_screen_with};
 use crate::render::targets::HDR_FORMAT;
 use crate::shaders;
 
@@ -67,10 +67,13 @@ impl Lookup {
         assert!(matches!(fields, 1 | 2), "the lookup reads one or two fields");
         let spec = Specialization::new().with_u32(0, fields as u32);
         Ok(Lookup {
-            pipeline: full_screen(
+            pipeline: full_screen_with(
                 gpu,
                 LOOKUP,
-                shaders::GI_LPV_LOOKUP_FRAG,
+                FullScreenShaders {
+                    vertex: shaders::GI_LPV_LOOKUP_VERT,
+                    fragment: shaders::GI_LPV_LOOKUP_FRAG,
+                },
                 HDR_FORMAT,
                 Blend::Add,
                 &spec,
