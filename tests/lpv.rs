@@ -1289,6 +1289,71 @@ fn channel_means(pixels: &[[f32; 3]]) -> [f64; 3] {
     sum.map(|s| s / pixels.len() as f64)
 }
 
+/// A frame whose lights and geometry did not change copies the kept injection instead of
+/// rendering the RSM and injecting again: the same bits (fixed-point injection) as frames that
+/// inject anew every time (lights handed to the frame again unchanged count as a change), for
+/// ILPV's two scales and for LPV; the RSM is rendered in the first frame only.
+#[test]
+fn a_frame_whose_lights_and_geometry_stayed_reuses_the_kept_injection_with_the_same_bits() {
+    use vkgi::gi::lpv::Injection;
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
+        let settings = LpvSettings {
+            scheme,
+            injection: Injection::Fixed,
+            rsm: 64,
+            ..LpvSettings::default()
+        };
+        let run = |inject_every_frame: bool| {
+            let mut frame =
+                vkgi::render::Frame::new(&gpu, &scene, common::indirect_only(32, 24)).unwrap();
+            let mut method =
+                two_scale::create(&Setup::new(&gpu, &scene), settings.clone()).unwrap();
+            let mut ring = vkgi::gpu::frames::FrameRing::new(&gpu, 2).unwrap();
+            for _ in 0..4 {
+                if inject_every_frame {
+                    frame.set_lights(&scene);
+                }
+                frame
+                    .submit(&gpu, &mut ring, Some(method.as_mut()))
+                    .unwrap();
+            }
+            ring.finish().unwrap();
+            let report = ring.profiler.report();
+            let runs = |name: &str| {
+                report
+                    .passes
+                    .iter()
+                    .find(|p| p.name.starts_with(name))
+                    .map_or(0, |p| p.per_frame_ns.len())
+            };
+            (
+                frame.read_hdr(&gpu).unwrap(),
+                runs("rsm"),
+                runs("kept injection"),
+            )
+        };
+        let (kept, kept_rsm_frames, copies) = run(false);
+        let (fresh, fresh_rsm_frames, fresh_copies) = run(true);
+        assert!(
+            kept.iter().flatten().any(|&v| v > 0.0),
+            "{scheme:?}: no indirect light"
+        );
+        assert_eq!(
+            kept, fresh,
+            "{scheme:?}: the kept injection changed the image"
+        );
+        assert_eq!(
+            (kept_rsm_frames, copies),
+            (1, 3),
+            "{scheme:?}: RSM frames and copies"
+        );
+        assert_eq!((fresh_rsm_frames, fresh_copies), (4, 0), "{scheme:?}");
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
 #[test]
 fn ilpv_follows_a_dimmed_or_recoloured_light_from_the_next_frame() {
     // Eq 3.4 scales the carried light by E_now / E_before (per colour channel here), so a light

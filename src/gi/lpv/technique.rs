@@ -547,6 +547,13 @@ pub struct Lpv {
     lattices: [[Buffer; 2]; 3],
     /// The sum of the steps the lookup reads, per channel.
     accumulation: [Buffer; 3],
+    /// The last injection, per channel, kept for the frames whose lights and geometry did not
+    /// change: they copy it instead of rendering the RSM and injecting again.
+    injected: [Buffer; 3],
+    /// `injected` holds the injection of the lights and geometry as they are.
+    injection_kept: bool,
+    /// This frame copies `injected` instead of injecting (decided by `begin_frame`).
+    reuses_injection: bool,
     geometry: Buffer,
     neighbours: Buffer,
     axes: Buffer,
@@ -774,6 +781,11 @@ impl Lpv {
             lattice_buffer("accumulation G".into())?,
             lattice_buffer("accumulation B".into())?,
         ];
+        let injected = [
+            lattice_buffer("kept injection R".into())?,
+            lattice_buffer("kept injection G".into())?,
+            lattice_buffer("kept injection B".into())?,
+        ];
         let geometry_f32 = geometry_cells.to_f32();
         let neighbours: Vec<GpuNeighbour> = transfer
             .neighbours
@@ -843,6 +855,9 @@ impl Lpv {
             field,
             lattices,
             accumulation,
+            injected,
+            injection_kept: false,
+            reuses_injection: false,
             geometry: {
                 let bytes: &[u8] = bytemuck::cast_slice(&geometry_f32);
                 let buffer = storage("geometry lattice", bytes.len(), texels)?;
@@ -953,7 +968,33 @@ impl Lpv {
         [d.x, d.y, d.z, 0]
     }
 
+    /// This frame's injection into the lattices of `self.current`: a copy of the kept one, or
+    /// a new one from `rsm`, then kept.
     fn record_inject(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        rsm: &Rsm,
+        views: u32,
+    ) -> GpuResult<()> {
+        let target = self.current;
+        let lattices = [0, 1, 2].map(|c| &self.lattices[c][target]);
+        let bytes = self.lattice.cell_count() as u64 * 16;
+        if self.reuses_injection {
+            for (kept, lattice) in self.injected.iter().zip(lattices) {
+                rec.copy_buffer("kept injection", kept, lattice, bytes);
+            }
+            return Ok(());
+        }
+        self.record_new_injection(rec, ctx, rsm, views)?;
+        for (lattice, kept) in lattices.into_iter().zip(&self.injected) {
+            rec.copy_buffer("keep injection", lattice, kept, bytes);
+        }
+        Ok(())
+    }
+
+    /// Inject this frame's VPLs from `rsm` into the lattices of `self.current`.
+    fn record_new_injection(
         &self,
         rec: &mut Recorder,
         ctx: &FrameContext,
@@ -1398,6 +1439,10 @@ impl Lpv {
         if ctx.changes.geometry {
             self.frames_since_change = 0;
         }
+        // The RSM and the injection depend on the lights and the geometry alone.
+        self.reuses_injection =
+            self.injection_kept && !ctx.changes.lights && !ctx.changes.geometry;
+        self.injection_kept = true;
         let rows = std::mem::take(&mut self.pending_geometry);
         rec.update_buffer_runs("update geometry lattice", &self.geometry, &rows);
         // This frame's light goes into the lattice that does not hold last frame's result.
@@ -1419,6 +1464,12 @@ impl Lpv {
     ) -> GpuResult<()> {
         let views = self.begin_frame(rec, ctx);
         self.record_inject(rec, ctx, rsm, views)
+    }
+
+    /// Whether this frame reuses the injection kept from an earlier frame (and renders no RSM):
+    /// the lights and the geometry have not changed since.
+    pub(super) fn reuses_injection(&self) -> bool {
+        self.reuses_injection
     }
 
     /// Rebuild the geometry lattice's cells that geometry moving in the world boxes `regions`
@@ -1505,7 +1556,7 @@ impl GiMethod for Lpv {
                 "a far-field lattice injects from its near field's RSM".into(),
             ));
         };
-        if views > 0 {
+        if views > 0 && !self.reuses_injection {
             rsm.record(rec, ctx)?;
         }
         self.record_inject(rec, ctx, rsm, views)

@@ -79,7 +79,15 @@ impl GiMethod for TwoScale {
             .near
             .rsm()
             .ok_or_else(|| GpuError::Setup("the near field renders no RSM".into()))?;
-        self.far.record_light_from(rec, ctx, rsm)
+        self.far.record_light_from(rec, ctx, rsm)?;
+        // The far field injects from the near field's RSM, which is rendered only when the
+        // near field does not reuse its injection: both decide from the same changes.
+        if self.near.reuses_injection() != self.far.reuses_injection() {
+            return Err(GpuError::Setup(
+                "the near and far fields disagree on reusing their injection".into(),
+            ));
+        }
+        Ok(())
     }
 
     fn parts(&self) -> &'static [&'static str] {
