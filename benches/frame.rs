@@ -30,6 +30,7 @@ fn main() -> anyhow::Result<()> {
         FrameOptions {
             width,
             height,
+            lights_move: true,
             ..FrameOptions::default()
         },
     )?;

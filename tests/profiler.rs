@@ -20,6 +20,7 @@ fn small_frame(gpu: &vkgi::gpu::Gpu) -> Frame {
             width: 32,
             height: 24,
             shadow_map_size: 64,
+            lights_move: true,
             ..FrameOptions::default()
         },
     )
@@ -295,4 +296,55 @@ fn a_buffer_is_read_as_texels_only_through_its_texel_view() {
         bytemuck::cast_slice(&gpu.read_buffer(&destination).unwrap()).to_vec();
     assert_eq!(copied, values, "a texel fetch reads the buffer's own bits");
     common::assert_no_validation_errors(&gpu);
+}
+
+/// A frame whose lights and geometry did not change keeps its shadow maps: drawn in the first
+/// frame and again after the lights are set, with the same image as frames that draw them
+/// every time (`lights_move`), which the profile and the benches measure.
+#[test]
+fn a_frame_whose_lights_stayed_keeps_its_shadow_maps() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let run = |lights_move: bool| {
+        let mut frame = Frame::new(
+            &gpu,
+            &scene,
+            FrameOptions {
+                width: 32,
+                height: 24,
+                shadow_map_size: 64,
+                lights_move,
+                ..FrameOptions::default()
+            },
+        )
+        .unwrap();
+        let mut ring = FrameRing::new(&gpu, 2).unwrap();
+        for f in 0..4 {
+            if f == 2 {
+                frame.set_lights(&scene);
+            }
+            ring.submit_frame(&gpu, &gpu.queues.graphics, &[], |rec| {
+                frame.record(rec, None)
+            })
+            .unwrap();
+        }
+        ring.finish().unwrap();
+        let report = ring.profiler.report();
+        let shadow_frames = report
+            .passes
+            .iter()
+            .find(|p| p.name == "shadow map")
+            .map_or(0, |p| p.per_frame_ns.len());
+        (frame.read_hdr(&gpu).unwrap(), shadow_frames)
+    };
+    let (kept, kept_frames) = run(false);
+    let (drawn, drawn_frames) = run(true);
+    common::assert_no_validation_errors(&gpu);
+    assert_eq!(
+        (kept_frames, drawn_frames),
+        (2, 4),
+        "frames that drew shadow maps"
+    );
+    assert!(kept.iter().flatten().any(|&v| v > 0.0), "no light");
+    assert_eq!(kept, drawn, "the kept shadow maps changed the image");
 }

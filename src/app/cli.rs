@@ -99,6 +99,11 @@ pub struct FrameArgs {
     /// (one submission per part, each on a compute queue).
     #[arg(long, visible_alias = "channels", value_enum, default_value_t = SubmitPlan::Auto)]
     pub parts: SubmitPlan,
+    /// Treat the lights as moved in every frame: redo the shadow maps and the methods' RSMs and
+    /// injection every frame, as a moving light costs (a frame whose lights and geometry did
+    /// not change keeps them; `vkgi profile` and `vkgi report` always redo them).
+    #[arg(long)]
+    pub lights_move: bool,
 }
 
 impl FrameArgs {
@@ -110,6 +115,7 @@ impl FrameArgs {
             shadow_map_size: self.shadow_map,
             indirect_only: self.indirect_only,
             submit: self.parts,
+            lights_move: self.lights_move,
         }
     }
 }

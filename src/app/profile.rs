@@ -195,6 +195,7 @@ pub fn run(
             width: config.size.0,
             height: config.size.1,
             submit: config.submit,
+            lights_move: true,
             ..FrameOptions::default()
         },
     )?;

@@ -307,6 +307,7 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
             width: w,
             height: h,
             indirect_only: true,
+            lights_move: true,
             ..FrameOptions::default()
         },
     )?;

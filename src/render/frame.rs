@@ -31,6 +31,11 @@ pub struct FrameOptions {
     /// Leave direct light and emission out of the HDR image (to score indirect light alone).
     pub indirect_only: bool,
     pub submit: SubmitPlan,
+    /// Treat the lights as moved in every frame: every frame redoes the work that depends on
+    /// them (shadow maps, and a method's RSMs and injection), which a frame whose lights and
+    /// geometry did not change otherwise keeps. Profiles and reports measure that frame.
+    #[serde(default)]
+    pub lights_move: bool,
 }
 
 impl Default for FrameOptions {
@@ -42,6 +47,7 @@ impl Default for FrameOptions {
             shadow_map_size: 1024,
             indirect_only: false,
             submit: SubmitPlan::Auto,
+            lights_move: false,
         }
     }
 }
@@ -93,6 +99,8 @@ pub struct Frame {
     pending_vertices: Vec<(u64, Vec<u8>)>,
     /// What changed since the last recorded frame (everything before the first).
     changes: Changes,
+    /// The shadow maps hold the lights and geometry as they are (drawn again when they change).
+    shadows_drawn: bool,
     /// Frames recorded since the GI method began (see [`Frame::restart_method`]).
     frames_recorded: u64,
     asynchronous: bool,
@@ -178,6 +186,7 @@ impl Frame {
             pending_lights: None,
             pending_vertices: Vec::new(),
             changes: Changes::ALL,
+            shadows_drawn: false,
             frames_recorded: 0,
             asynchronous,
             part_sync: None,
@@ -276,7 +285,11 @@ impl Frame {
     ) -> GpuResult<()> {
         let pending = self.pending_lights.take();
         let pending_vertices = std::mem::take(&mut self.pending_vertices);
-        let changes = std::mem::take(&mut self.changes);
+        let mut changes = std::mem::take(&mut self.changes);
+        changes.lights |= self.options.lights_move;
+        // The shadow maps depend on the lights and the geometry alone.
+        let shadows = changes.lights || changes.geometry || !self.shadows_drawn;
+        self.shadows_drawn = true;
         let frame = &*self;
         let ctx = FrameContext {
             scene: &frame.scene,
@@ -307,9 +320,11 @@ impl Frame {
                 rec.update_buffer("update lights", &frame.scene.lights, lights);
                 rec.update_buffer("update shadow views", &frame.scene.shadow_views, views);
             }
-            frame
-                .passes
-                .record_shadows(rec, &frame.scene, &frame.shadow_map)?;
+            if shadows {
+                frame
+                    .passes
+                    .record_shadows(rec, &frame.scene, &frame.shadow_map)?;
+            }
             for (v, view) in frame.views.iter().enumerate() {
                 rec.set_context(tag(Stage::Scene, Some(v)));
                 frame.passes.record_gbuffer(rec, &frame.scene, view)?;
