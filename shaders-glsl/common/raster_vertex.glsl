@@ -25,6 +25,9 @@ layout(location = 4) flat out vec4 out_albedo;
 #ifndef ALBEDO_ONLY
 layout(location = 5) flat out vec4 out_emission;
 layout(location = 6) flat out vec4 out_specular;
+// The eye, which the G-buffer's fragments turn normals toward: a fragment shader reads push
+// constants lane by lane on lavapipe (docs/performance.md).
+layout(location = 7) flat out vec3 out_camera;
 #endif
 
 void main() {
@@ -42,6 +45,7 @@ void main() {
 #ifndef ALBEDO_ONLY
     out_emission = m.emission;
     out_specular = m.specular;
+    out_camera = pc.camera_position.xyz;
 #endif
     out_texcoord = vertex_texcoord(vertices[corner]);
     gl_Position = pc.view_projection * vec4(p, 1.0);

@@ -6,11 +6,6 @@
 layout(binding = RASTER_TEXTURES, std430) readonly buffer Textures { uint texture_words[]; };
 #include "common/texture.glsl"
 
-layout(push_constant) uniform Push {
-    mat4 view_projection;
-    vec4 camera_position;
-} pc;
-
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
 layout(location = 2) flat in vec3 in_face_normal;
@@ -18,6 +13,7 @@ layout(location = 3) in vec2 in_texcoord;
 layout(location = 4) flat in vec4 in_albedo;
 layout(location = 5) flat in vec4 in_emission;
 layout(location = 6) flat in vec4 in_specular;
+layout(location = 7) flat in vec3 in_camera;
 
 layout(location = 0) out vec4 out_position;
 layout(location = 1) out vec4 out_normal;
@@ -27,7 +23,7 @@ layout(location = 4) out vec4 out_specular;
 
 void main() {
     // Surfaces are two-sided: turn both normals toward the viewer.
-    float facing = dot(in_face_normal, pc.camera_position.xyz - in_position) >= 0.0 ? 1.0 : -1.0;
+    float facing = dot(in_face_normal, in_camera - in_position) >= 0.0 ? 1.0 : -1.0;
     vec3 n = shading_normal(in_normal, in_face_normal) * facing;
     if (dot(n, in_face_normal * facing) <= 0.0) n = in_face_normal * facing;
     Material m = Material(in_albedo, in_emission, in_specular);
