@@ -3,7 +3,8 @@
 // The vertex stage of the G-buffer and of the reflective shadow maps: pulls its triangle's
 // corners through the triangle's vertex indices and passes world position, interpolated vertex
 // normal, the geometric normal (for facing and where the vertices have no normals), texture
-// coordinates and the material's parameters (only the albedo where ALBEDO_ONLY is defined).
+// coordinates and the material's albedo; with GBUFFER_EYE the eye, with MATERIAL_TERMS the
+// material's emission and glossy lobe.
 #include "common/scene.glsl"
 
 layout(binding = RASTER_VERTICES, std430) readonly buffer Vertices { Vertex vertices[]; };
@@ -22,9 +23,11 @@ layout(location = 3) out vec2 out_texcoord;
 // The triangle's material, read here once per corner rather than once per fragment: its
 // albedo, and for the G-buffer its emission and glossy lobe.
 layout(location = 4) flat out vec4 out_albedo;
-#ifndef ALBEDO_ONLY
+#ifdef MATERIAL_TERMS
 layout(location = 5) flat out vec4 out_emission;
 layout(location = 6) flat out vec4 out_specular;
+#endif
+#ifdef GBUFFER_EYE
 // The eye, which the G-buffer's fragments turn normals toward: a fragment shader reads push
 // constants lane by lane on lavapipe (docs/performance.md).
 layout(location = 7) flat out vec3 out_camera;
@@ -42,9 +45,11 @@ void main() {
     out_face_normal = normalize(cross(b - a, c - a));
     Material m = materials[triangle.w];
     out_albedo = m.albedo;
-#ifndef ALBEDO_ONLY
+#ifdef MATERIAL_TERMS
     out_emission = m.emission;
     out_specular = m.specular;
+#endif
+#ifdef GBUFFER_EYE
     out_camera = pc.camera_position.xyz;
 #endif
     out_texcoord = vertex_texcoord(vertices[corner]);

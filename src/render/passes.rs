@@ -99,6 +99,9 @@ pub struct ScenePasses {
     /// constant indices; empty when it loops over any number of them.
     shared_light_views: Vec<(u32, u32)>,
     shadow: RasterPipeline,
+    /// The G-buffer writes emission and the glossy lobe (some material has one of them); else
+    /// only position, normal and albedo, and the other two targets stay zero.
+    gbuffer_terms: bool,
     gbuffer: RasterPipeline,
     lighting: DirectLighting,
     tonemap: RasterPipeline,
@@ -124,8 +127,10 @@ impl ScenePasses {
             .with_u32(1, u32::from(terms.glossy))
             .with_u32(2, shared_light_views.len() as u32)
             .with_u32(3, most_views);
+        let gbuffer_terms = terms.emissive || terms.glossy;
         Ok(ScenePasses {
             lighting: direct_lighting(gpu, &shared_light_views, &lighting)?,
+            gbuffer_terms,
             shared_light_views,
             shadow: RasterPipeline::new(
                 gpu,
@@ -145,9 +150,15 @@ impl ScenePasses {
                 gpu,
                 &RasterPipelineDesc {
                     name: GBUFFER,
-                    vertex: shaders::RASTER_GBUFFER_VERT,
-                    fragment: Some(shaders::RASTER_GBUFFER_FRAG),
-                    color_formats: &GBUFFER_FORMATS,
+                    vertex: match gbuffer_terms {
+                        true => shaders::RASTER_GBUFFER_VERT,
+                        false => shaders::RASTER_GBUFFER_PLAIN_VERT,
+                    },
+                    fragment: Some(match gbuffer_terms {
+                        true => shaders::RASTER_GBUFFER_FRAG,
+                        false => shaders::RASTER_GBUFFER_PLAIN_FRAG,
+                    }),
+                    color_formats: &GBUFFER_FORMATS[..gbuffer_targets(gbuffer_terms)],
                     depth_format: Some(vk::Format::D32_SFLOAT),
                     depth_bias: None,
                     additive_blend: false,
@@ -238,7 +249,7 @@ impl ScenePasses {
                 (&g.albedo, 0, [0.0; 4]),
                 (&g.emission, 0, [0.0; 4]),
                 (&g.specular, 0, [0.0; 4]),
-            ],
+            ][..gbuffer_targets(self.gbuffer_terms)],
             depth: Some((&g.depth, 0)),
             draw: Draw::Vertices(scene.vertex_count),
             keep_contents: false,
@@ -326,6 +337,12 @@ impl ScenePasses {
             keep_contents: false,
         })
     }
+}
+
+/// The G-buffer's targets: all five (`GBUFFER_FORMATS`) with emission and the glossy lobe, the
+/// first three (position, normal, albedo) without.
+fn gbuffer_targets(terms: bool) -> usize {
+    if terms { GBUFFER_FORMATS.len() } else { 3 }
 }
 
 /// Direct lighting's pipeline: the fragment form where the shared lights' varyings fit, else

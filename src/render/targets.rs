@@ -72,7 +72,8 @@ impl View {
     pub fn new(gpu: &Gpu, width: u32, height: u32, eye: Eye) -> GpuResult<View> {
         let attachment = vk::ImageUsageFlags::COLOR_ATTACHMENT
             | vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::TRANSFER_SRC;
+            | vk::ImageUsageFlags::TRANSFER_SRC
+            | vk::ImageUsageFlags::TRANSFER_DST;
         let image = |name: &str, format: vk::Format, usage: vk::ImageUsageFlags| {
             gpu.create_image(&ImageDesc::new_2d(name, format, width, height, usage))
         };
@@ -88,6 +89,13 @@ impl View {
                 vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             )?,
         };
+        // A scene without emission or glossy lobes never writes those two targets
+        // (src/render/passes.rs), and whoever reads them reads zero.
+        gpu.one_shot(|rec| {
+            rec.clear_image("clear g-buffer emission", &gbuffer.emission, [0.0; 4]);
+            rec.clear_image("clear g-buffer specular", &gbuffer.specular, [0.0; 4]);
+            Ok(())
+        })?;
         // Render targets too: the LPV lookup adds to the HDR image by blending, tone mapping
         // renders the 8-bit one (src/render/full_screen.rs).
         let storage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;

@@ -1,5 +1,4 @@
 #version 460
 // Reflective shadow map geometry: the G-buffer's vertex stage, passing only the albedo of the
 // material (the flux a surface reflects).
-#define ALBEDO_ONLY
 #include "common/raster_vertex.glsl"
