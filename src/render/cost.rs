@@ -2,10 +2,11 @@
 //! bound `vkgi profile` measures them against (as src/gi/lpv/cost.rs does for propagation). A
 //! multiply-add is 2 flops; a square root, division or comparison counts 1.
 //!
-//! * **G-buffer**: position (16 B), normal, albedo, emission and the glossy lobe (8 B each,
-//!   half floats) and depth (4 B) written, depth read by the test (4 B): 56 B per covered pixel,
-//!   each pixel drawn once (overdraw is the scene's, not the pass's). Arithmetic: the varyings'
-//!   interpolation 32, facing 8, the shading normal 20: 60.
+//! * **G-buffer**: position (16 B), normal, albedo, and where a material has them emission and
+//!   the glossy lobe (8 B each, half floats) and depth (4 B) written, depth read by the test (4
+//!   B): 56 B per covered pixel, 40 B without emission and glossy lobes, each pixel drawn once
+//!   (overdraw is the scene's, not the pass's). Arithmetic: the varyings' interpolation 32,
+//!   facing 8, the shading normal 20: 60.
 //! * **Direct lighting**: the G-buffer's position, normal and albedo read (32 B), its emission
 //!   and glossy lobe where a material has them (8 B each), and the HDR pixel written (16 B): 48
 //!   to 64 B (a shadow texel serves many neighbouring pixels: at the ideal each is read once a
@@ -27,7 +28,7 @@ pub fn pixel_passes(lights: u32, terms: MaterialTerms) -> Vec<PixelPass> {
     vec![
         PixelPass {
             pass: GBUFFER,
-            bytes_per_pixel: 56.0,
+            bytes_per_pixel: 40.0 + optional(terms.emissive || terms.glossy, 16.0),
             flops_per_pixel: 60.0,
         },
         PixelPass {
