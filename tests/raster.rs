@@ -9,6 +9,14 @@ use vkgi::scene::Scene;
 const W: u32 = 160;
 const H: u32 = 120;
 
+/// Pixels of an HDR image with a luminance above 1e-3.
+fn lit_pixels(image: &[[f32; 3]]) -> usize {
+    image
+        .iter()
+        .filter(|p| common::luminance(**p) > 1e-3)
+        .count()
+}
+
 /// The pixel a world point lands on (must be in the image).
 fn pixel_of(scene: &Scene, p: Vec3) -> (u32, u32) {
     let px = scene
@@ -251,10 +259,7 @@ fn shared_and_looped_lights_give_the_same_direct_light() {
     );
     let (_, looped) = common::render(&gpu, &scene, 96, 72);
     common::assert_no_validation_errors(&gpu);
-    let lit = shared
-        .iter()
-        .filter(|p| common::luminance(**p) > 1e-3)
-        .count();
+    let lit = lit_pixels(&shared);
     assert!(lit > shared.len() / 2, "only {lit} lit pixels");
     assert_eq!(
         shared, looped,
@@ -299,10 +304,7 @@ fn fragment_and_compute_direct_lighting_give_the_same_image() {
     let (compute_frame, compute) = common::render(&gpu, &scene, 96, 72);
     assert!(compute_frame.direct_lighting().starts_with("compute pass"));
     common::assert_no_validation_errors(&gpu);
-    let lit = fragment
-        .iter()
-        .filter(|p| common::luminance(**p) > 1e-3)
-        .count();
+    let lit = lit_pixels(&fragment);
     // The spot's cone lights the floor, the blocks and the walls' lower parts.
     assert!(lit > fragment.len() / 5, "only {lit} lit pixels");
     assert_eq!(fragment, compute, "the fragment and compute passes differ");

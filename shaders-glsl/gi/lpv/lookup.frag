@@ -4,8 +4,8 @@
 // R, G and B lattices is projected on the cosine lobe toward the surface, SH_cos(-n), turned
 // into radiance by the cell area and added, times albedo / pi, to the HDR image. ILPV's two
 // scales look up both lattices in one pass, each field clamped at zero on its own.
-// A fragment pass over a full-screen triangle (common/fullscreen.vert) whose output the blend
-// adds to the HDR image: on lavapipe the render target's blend costs a fraction of a compute
+// A fragment pass over a full-screen triangle (gi/lpv/lookup.vert, which hands it the fields'
+// constants as flat varyings) whose output the blend adds to the HDR image: on lavapipe the render target's blend costs a fraction of a compute
 // pass's imageLoad and imageStore of the same pixel (docs/performance.md).
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"
