@@ -37,6 +37,10 @@ shared_constants! {
     /// raster/lighting.vert to raster/lighting.frag: 4 words a light, 5 a view. 15 words (60
     /// components) fit every Vulkan device's vertex outputs and fragment inputs (at least 64).
     LIGHTING_VARYING_WORDS: u32 = 15;
+    /// Words of one light among those varyings (raster/light_words.glsl).
+    LIGHTING_LIGHT_WORDS: u32 = 4;
+    /// Words of one shadow view: the view-projection's columns and the parameters.
+    LIGHTING_VIEW_WORDS: u32 = 5;
     LIGHTING_GBUFFER_POSITION: u32 = 0;
     LIGHTING_GBUFFER_NORMAL: u32 = 1;
     LIGHTING_GBUFFER_ALBEDO: u32 = 2;

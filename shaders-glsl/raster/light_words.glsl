@@ -6,8 +6,8 @@
 // words (the view-projection's columns and the parameters: all shadow_visibility reads).
 // Requires raster/direct.glsl's specialisation constants.
 
-const uint LIGHT_WORDS = 4u;
-const uint VIEW_WORDS = 5u;
+const uint LIGHT_WORDS = LIGHTING_LIGHT_WORDS;
+const uint VIEW_WORDS = LIGHTING_VIEW_WORDS;
 
 // The first word of shared light `i`.
 uint light_word(uint i) {

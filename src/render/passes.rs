@@ -86,11 +86,17 @@ enum DirectLighting {
     Fragment(RasterPipeline),
 }
 
-/// The flat varyings (vec4 words) the fragment form needs for `shared_light_views`: 4 a light
-/// and 5 a view, every light with as many views as the one with most (raster/light_words.glsl).
+/// The flat varyings (vec4 words) the fragment form needs for `shared_light_views`: the words
+/// of a light and of each of its views, every light with as many views as the one with most
+/// (raster/light_words.glsl).
 fn light_varying_words(shared_light_views: &[(u32, u32)]) -> u32 {
-    let most_views = shared_light_views.iter().map(|v| v.1).max().unwrap_or(1);
-    shared_light_views.len() as u32 * (4 + 5 * most_views)
+    shared_light_views.len() as u32
+        * (ids::LIGHTING_LIGHT_WORDS + ids::LIGHTING_VIEW_WORDS * most_views(shared_light_views))
+}
+
+/// The most shadow views one of the shared lights has (1 when there are none).
+fn most_views(shared_light_views: &[(u32, u32)]) -> u32 {
+    shared_light_views.iter().map(|v| v.1).max().unwrap_or(1)
 }
 
 /// The pipelines of the frame's own passes.
@@ -121,7 +127,7 @@ impl ScenePasses {
         } else {
             Vec::new()
         };
-        let most_views = shared_light_views.iter().map(|v| v.1).max().unwrap_or(1);
+        let most_views = most_views(&shared_light_views);
         let lighting = Specialization::new()
             .with_u32(0, u32::from(terms.emissive))
             .with_u32(1, u32::from(terms.glossy))

@@ -986,23 +986,22 @@ impl Lpv {
             }
             return Ok(());
         }
-        self.record_new_injection(rec, ctx, rsm, views)?;
+        self.record_new_injection(rec, ctx, rsm, views, lattices)?;
         for (lattice, kept) in lattices.into_iter().zip(&self.injected) {
             rec.copy_buffer("keep injection", lattice, kept, bytes);
         }
         Ok(())
     }
 
-    /// Inject this frame's VPLs from `rsm` into the lattices of `self.current`.
+    /// Inject this frame's VPLs from `rsm` into `lattices` (those of `self.current`).
     fn record_new_injection(
         &self,
         rec: &mut Recorder,
         ctx: &FrameContext,
         rsm: &Rsm,
         views: u32,
+        lattices: [&Buffer; 3],
     ) -> GpuResult<()> {
-        let target = self.current;
-        let lattices = [0, 1, 2].map(|c| &self.lattices[c][target]);
         // Float atomics add straight into the lattice; fixed point into its sums first.
         let [r, g, b] = match &self.fixed {
             None => lattices,
