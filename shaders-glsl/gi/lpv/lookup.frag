@@ -18,7 +18,8 @@ layout(binding = LOOKUP_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuf
 layout(binding = LOOKUP_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
 layout(binding = LOOKUP_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
 // Each field's R, G and B lattices as 3-D images: the sampler's trilinear filter interpolates
-// the eight cells around a point, with transparent black (no light) outside the lattice.
+// the eight cells around a point. The images hold a border of zero cells around the lattice and
+// the sampler clamps to their edge: transparent black (no light) outside the lattice.
 layout(binding = LOOKUP_LATTICE_R) uniform sampler3D lattice_r;
 layout(binding = LOOKUP_LATTICE_G) uniform sampler3D lattice_g;
 layout(binding = LOOKUP_LATTICE_B) uniform sampler3D lattice_b;

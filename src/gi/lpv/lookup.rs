@@ -35,10 +35,17 @@ pub fn lookup_pass(lattices: u32) -> PixelPass {
     }
 }
 
+/// Cells of zero around the lattice in the lookup's 3-D images: the lookup samples them
+/// clamped to the edge, which costs lavapipe's sampler less than a border colour
+/// (docs/performance.md) and gives the same transparent black outside the lattice.
+pub const LOOKUP_BORDER: u32 = 1;
+
 /// One lattice as the lookup reads it.
 pub struct LookupField<'a> {
-    /// The R, G and B lattices as 3-D images.
+    /// The R, G and B lattices as 3-D images, each inside a border of [`LOOKUP_BORDER`] zero
+    /// cells.
     pub images: &'a [Image; 3],
+    /// The corner of the lattice's cell (0, 0, 0).
     pub origin: Vec3,
     pub cell_size: f32,
     pub dims: [i32; 4],
@@ -49,15 +56,24 @@ pub struct LookupField<'a> {
 }
 
 impl LookupField<'_> {
+    /// The corner of the images' texel (0, 0, 0), and the cell size.
     fn origin_cell(&self) -> [f32; 4] {
-        [self.origin.x, self.origin.y, self.origin.z, self.cell_size]
+        let origin = self.origin - Vec3::splat(self.cell_size * LOOKUP_BORDER as f32);
+        [origin.x, origin.y, origin.z, self.cell_size]
+    }
+
+    /// The images' size in texels.
+    fn image_dims(&self) -> [i32; 4] {
+        let [x, y, z, _] = self.dims.map(|d| d + 2 * LOOKUP_BORDER as i32);
+        [x, y, z, 0]
     }
 }
 
 /// The lookup pipeline for a number of fields (1 or 2), and its trilinear sampler.
 pub struct Lookup {
     pipeline: RasterPipeline,
-    /// Trilinear, and transparent black outside the lattice (as if its outside were empty).
+    /// Trilinear, clamped to the edge: the images' border of zero cells makes the outside
+    /// of the lattice transparent black (as if it were empty).
     sampler: Sampler,
     fields: usize,
 }
@@ -79,7 +95,7 @@ impl Lookup {
                 &spec,
             )?,
             sampler: gpu
-                .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_BORDER)?,
+                .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
             fields,
         })
     }
@@ -99,7 +115,7 @@ impl Lookup {
         let view = &ctx.views[view];
         let push = LookupPush {
             origin_cell: [near.origin_cell(), far.origin_cell()],
-            dims: [near.dims, far.dims],
+            dims: [near.image_dims(), far.image_dims()],
             scale_offset: [
                 [near.scale, near.offset, 0.0, 0.0],
                 [far.scale, far.offset, 0.0, 0.0],

@@ -11,7 +11,7 @@ use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
-use super::lookup::{Lookup, LookupField, lookup_pass};
+use super::lookup::{LOOKUP_BORDER, Lookup, LookupField, lookup_pass};
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
 use crate::gi::registry::Setup;
@@ -535,8 +535,9 @@ pub struct Lpv {
     /// The lookup pass of a lattice looked up on its own (None: two scales look up both of
     /// theirs in one pass).
     lookup: Option<Lookup>,
-    /// What the lookup samples: per channel, a copy of its result lattice as a 3-D image, read
-    /// with the sampler's trilinear filter (one fetch instead of eight gathered loads).
+    /// What the lookup samples: per channel, a copy of its result lattice as a 3-D image inside
+    /// a border of `LOOKUP_BORDER` zero cells, read with the sampler's trilinear filter (one
+    /// fetch instead of eight gathered loads).
     lookup_images: [Image; 3],
     /// The reflective shadow maps it injects from (None: a far field reads its near field's).
     rsm: Option<Rsm>,
@@ -657,7 +658,7 @@ impl Lpv {
             ))
             .into());
         }
-        let side = lattice.dims.max_element();
+        let side = lattice.dims.max_element() + 2 * LOOKUP_BORDER;
         if side > gpu.info.max_image_dimension_3d {
             return Err(InputError::new(format!(
                 "a {}x{}x{} lattice exceeds the device's 3-D image limit of {} cells a side (the lookup samples the lattice as a 3-D image)",
@@ -754,10 +755,18 @@ impl Lpv {
             gpu.create_image(&ImageDesc::new_3d(
                 &format!("lookup lattice {}", CHANNELS[c]),
                 vk::Format::R32G32B32A32_SFLOAT,
-                lattice.dims.to_array(),
+                (lattice.dims + 2 * LOOKUP_BORDER).to_array(),
                 vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
             ))
         };
+        let lookup_images = [lookup_image(0)?, lookup_image(1)?, lookup_image(2)?];
+        // The border stays zero: every frame copies the lattice into the cells inside it.
+        gpu.one_shot(|rec| {
+            for image in &lookup_images {
+                rec.clear_image("clear lookup lattice", image, [0.0; 4]);
+            }
+            Ok(())
+        })?;
         let fixed = match settings.injection {
             Injection::Float => None,
             Injection::Fixed => {
@@ -846,7 +855,7 @@ impl Lpv {
             )?,
             propagate_pipeline,
             lookup: None,
-            lookup_images: [lookup_image(0)?, lookup_image(1)?, lookup_image(2)?],
+            lookup_images,
             rsm,
             propagate_pass: match field {
                 Field::Whole => PROPAGATE,
@@ -894,12 +903,16 @@ impl Lpv {
         }
     }
 
-    /// Copy channel `channel`'s looked-up lattice into the 3-D image the lookup samples.
+    /// Copy channel `channel`'s looked-up lattice into the 3-D image the lookup samples, inside
+    /// its border.
     fn copy_to_lookup(&self, rec: &mut Recorder, channel: usize, result: usize) {
-        rec.copy_buffer_to_image(
+        let border = LOOKUP_BORDER as i32;
+        rec.copy_buffer_to_box(
             "lattice to lookup image",
             self.looked_up(channel, result),
             &self.lookup_images[channel],
+            [border; 3],
+            self.lattice.dims.to_array(),
         );
     }
 
