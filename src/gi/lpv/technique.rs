@@ -936,7 +936,7 @@ impl Lpv {
     /// Steps recorded per frame: all of them, but for accumulated ILPV at λ_incr 0 one fewer,
     /// since the last step's result is neither looked up nor carried (a two-scale near field of
     /// 2 steps runs 1).
-    fn steps_run(&self) -> usize {
+    pub(super) fn steps_run(&self) -> usize {
         let steps = self.settings.iterations as usize;
         let carried_or_read = self.settings.incremental > 0.0 || self.reads_final();
         match self.settings.scheme {
