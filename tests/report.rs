@@ -113,8 +113,18 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
         assert!(s["exponent"].as_f64().unwrap().is_finite());
     }
     assert!(stdout.contains("ns per pixel"), "{stdout}");
+    let rate = |limits: &serde_json::Value, key: &str| limits[key].as_f64().unwrap();
     for config in profile["configs"].as_array().unwrap() {
         let method = config["method"].as_str().unwrap();
+        // Each configuration's bounds use the limits probed around its frames; the run's are
+        // the best of them.
+        for key in ["bandwidth_bytes_per_ns", "flops_per_ns"] {
+            let own = rate(&config["limits"], key);
+            assert!(
+                own > 0.0 && own <= rate(&profile["limits"], key),
+                "{method}: {key}"
+            );
+        }
         let pixel_passes = config["pixel_passes"].as_array().unwrap();
         let names: Vec<&str> = pixel_passes
             .iter()

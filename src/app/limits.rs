@@ -22,6 +22,16 @@ pub struct DeviceLimits {
 }
 
 impl DeviceLimits {
+    /// The better of two measurements, rate by rate (a limit is the best the device does).
+    pub fn best(self, other: DeviceLimits) -> DeviceLimits {
+        DeviceLimits {
+            bandwidth_bytes_per_ns: self
+                .bandwidth_bytes_per_ns
+                .max(other.bandwidth_bytes_per_ns),
+            flops_per_ns: self.flops_per_ns.max(other.flops_per_ns),
+        }
+    }
+
     /// The shortest time a step moving `bytes` and computing `flops` can take (ns).
     pub fn bound_ns(&self, bytes: f64, flops: f64) -> f64 {
         (bytes / self.bandwidth_bytes_per_ns).max(flops / self.flops_per_ns)

@@ -79,6 +79,10 @@ pub struct ConfigSummary {
     pub submit_plan: SubmitPlan,
     /// CPU time to build the method (e.g. transfer vectors and geometry lattice).
     pub setup_ms: f64,
+    /// The device's limits probed just before and just after this configuration's frames
+    /// (the better of the two), which its bounds are stated against: on a shared machine
+    /// the device's speed drifts over a long profile.
+    pub limits: DeviceLimits,
     pub frame_median_ns: f64,
     pub core: Option<CoreSummary>,
     /// The frame's and the method's per-pixel passes against the device's bounds (unit
@@ -103,6 +107,7 @@ pub struct ProfileResult {
     pub queue_plan: String,
     /// How the frame's direct lighting runs (src/render/passes.rs).
     pub direct_lighting: String,
+    /// The best limits probed over the whole run (each configuration's bounds use its own).
     pub limits: DeviceLimits,
     pub configs: Vec<ConfigSummary>,
     pub passes: Vec<PassRow>,
@@ -187,7 +192,8 @@ pub fn run(
             plan.push((entry, value, settings));
         }
     }
-    let limits = limits::measure(gpu).context("measuring the device's limits")?;
+    let probe = || limits::measure(gpu).context("measuring the device's limits");
+    let mut run_limits = probe()?;
     let mut frame = Frame::new(
         gpu,
         &scene,
@@ -206,6 +212,7 @@ pub fn run(
         let start = Instant::now();
         let mut method = entry.create(&Setup::new(gpu, &scene), &settings)?;
         let setup_ms = start.elapsed().as_secs_f64() * 1e3;
+        let before = probe()?;
         let ring = run_frames(
             gpu,
             &mut frame,
@@ -213,6 +220,8 @@ pub fn run(
             config.warmup,
             config.frames,
         )?;
+        let limits = before.best(probe()?);
+        run_limits = run_limits.best(limits);
         let report = ring.profiler.report();
         let core = method.core_pass();
         let bound = core.as_ref().map(|c| {
@@ -278,6 +287,7 @@ pub fn run(
             description: method.describe(),
             submit_plan: frame.submit_plan(),
             setup_ms,
+            limits,
             frame_median_ns: report.frame.as_ref().map_or(0.0, |f| f.median_ns),
             core,
             pixel_passes,
@@ -306,7 +316,7 @@ pub fn run(
         driver: gpu.info.driver.clone(),
         queue_plan: gpu.queues.describe(),
         direct_lighting: frame.direct_lighting(),
-        limits,
+        limits: run_limits,
         configs,
         passes,
         scaling,
@@ -390,7 +400,7 @@ impl ProfileResult {
         let _ = writeln!(out, "direct lighting: {}", self.direct_lighting);
         let _ = writeln!(
             out,
-            "device limits: {:.3} GB/s copy bandwidth, {:.2} GFLOP/s FMA rate",
+            "device limits, the best of the run: {:.3} GB/s copy bandwidth, {:.2} GFLOP/s FMA rate",
             self.limits.bandwidth_bytes_per_ns, self.limits.flops_per_ns
         );
         for c in &self.configs {
@@ -404,6 +414,11 @@ impl ProfileResult {
             for line in &c.description {
                 let _ = writeln!(out, "  {line}");
             }
+            let _ = writeln!(
+                out,
+                "  device limits around its frames (the bounds below): {:.3} GB/s, {:.2} GFLOP/s",
+                c.limits.bandwidth_bytes_per_ns, c.limits.flops_per_ns
+            );
             let unit = c.core.as_ref().map_or("unit", |k| k.unit);
             let _ = writeln!(
                 out,
