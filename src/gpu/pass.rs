@@ -975,7 +975,9 @@ impl<'a> Recorder<'a> {
     }
 
     /// Copy a rectangle of `src` (x, y, width, height) into a rectangle of `dst`, scaling with
-    /// linear filtering when the sizes differ.
+    /// linear filtering when the sizes differ. Rectangles of one size between images of one
+    /// format are copied texel for texel (`vkCmdCopyImage`: on lavapipe a memory copy, where a
+    /// blit draws).
     pub fn blit(
         &mut self,
         name: &'static str,
@@ -990,6 +992,33 @@ impl<'a> Recorder<'a> {
             (Resource::Image(dst), Access::TransferWrite),
         ]);
         let region = blit_region(from, to);
+        if from[2..] == to[2..] && src.format == dst.format {
+            let copy = vk::ImageCopy {
+                src_subresource: region.src_subresource,
+                src_offset: region.src_offsets[0],
+                dst_subresource: region.dst_subresource,
+                dst_offset: region.dst_offsets[0],
+                extent: vk::Extent3D {
+                    width: from[2] as u32,
+                    height: from[3] as u32,
+                    depth: 1,
+                },
+            };
+            // SAFETY: both images are alive with TRANSFER_SRC / TRANSFER_DST usage, of one
+            // format, and in the layouts `sync` put them in.
+            unsafe {
+                self.gpu.shared.device.cmd_copy_image(
+                    self.cmd,
+                    src.raw,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                    dst.raw,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                    &[copy],
+                )
+            };
+            self.end_scope(scope);
+            return;
+        }
         // SAFETY: both images are alive with TRANSFER_SRC / TRANSFER_DST usage and in the
         // layouts `sync` put them in.
         unsafe {

@@ -73,9 +73,18 @@ impl Output {
         self.swapchain.acquire(slot)
     }
 
-    /// Compose the views into the window image, leaving the overlay to the caller.
+    /// Compose the views into the window image, leaving the overlay to the caller. The window
+    /// is cleared first unless one view fills it.
     pub fn record_compose(&self, rec: &mut Recorder, frame: &Frame) {
-        rec.clear_image("clear window", &self.composed, [0.0, 0.0, 0.0, 1.0]);
+        let whole = [
+            0,
+            0,
+            self.composed.width() as i32,
+            self.composed.height() as i32,
+        ];
+        if !self.tiles.iter().any(|tile| tile.rect == whole) {
+            rec.clear_image("clear window", &self.composed, [0.0, 0.0, 0.0, 1.0]);
+        }
         for tile in &self.tiles {
             let view = &frame.views[tile.view];
             let from = [0, 0, view.width() as i32, view.height() as i32];
