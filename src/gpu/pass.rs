@@ -992,45 +992,39 @@ impl<'a> Recorder<'a> {
             (Resource::Image(dst), Access::TransferWrite),
         ]);
         let region = blit_region(from, to);
-        if from[2..] == to[2..] && src.format == dst.format {
-            let copy = vk::ImageCopy {
-                src_subresource: region.src_subresource,
-                src_offset: region.src_offsets[0],
-                dst_subresource: region.dst_subresource,
-                dst_offset: region.dst_offsets[0],
-                extent: vk::Extent3D {
-                    width: from[2] as u32,
-                    height: from[3] as u32,
-                    depth: 1,
-                },
-            };
-            // SAFETY: both images are alive with TRANSFER_SRC / TRANSFER_DST usage, of one
-            // format, and in the layouts `sync` put them in.
-            unsafe {
-                self.gpu.shared.device.cmd_copy_image(
-                    self.cmd,
-                    src.raw,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    dst.raw,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    &[copy],
-                )
-            };
-            self.end_scope(scope);
-            return;
-        }
+        let copy = vk::ImageCopy {
+            src_subresource: region.src_subresource,
+            src_offset: region.src_offsets[0],
+            dst_subresource: region.dst_subresource,
+            dst_offset: region.dst_offsets[0],
+            extent: vk::Extent3D {
+                width: from[2] as u32,
+                height: from[3] as u32,
+                depth: 1,
+            },
+        };
+        let (device, cmd) = (&self.gpu.shared.device, self.cmd);
+        let (src_layout, dst_layout) = (
+            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+        );
         // SAFETY: both images are alive with TRANSFER_SRC / TRANSFER_DST usage and in the
-        // layouts `sync` put them in.
+        // layouts `sync` put them in; the copy only between images of one format.
         unsafe {
-            self.gpu.shared.device.cmd_blit_image(
-                self.cmd,
-                src.raw,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                dst.raw,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &[region],
-                vk::Filter::LINEAR,
-            )
+            if from[2..] == to[2..] && src.format == dst.format {
+                device.cmd_copy_image(cmd, src.raw, src_layout, dst.raw, dst_layout, &[copy]);
+            } else {
+                let filter = vk::Filter::LINEAR;
+                device.cmd_blit_image(
+                    cmd,
+                    src.raw,
+                    src_layout,
+                    dst.raw,
+                    dst_layout,
+                    &[region],
+                    filter,
+                );
+            }
         };
         self.end_scope(scope);
     }
