@@ -975,9 +975,9 @@ impl<'a> Recorder<'a> {
     }
 
     /// Copy a rectangle of `src` (x, y, width, height) into a rectangle of `dst`, scaling with
-    /// linear filtering when the sizes differ. Rectangles of one size between images of one
-    /// format are copied texel for texel (`vkCmdCopyImage`: on lavapipe a memory copy, where a
-    /// blit draws).
+    /// linear filtering when the sizes differ (a negative width or height flips). Rectangles
+    /// of one positive size between images of one format are copied texel for texel
+    /// (`vkCmdCopyImage`: on lavapipe a memory copy, where a blit draws).
     pub fn blit(
         &mut self,
         name: &'static str,
@@ -1011,7 +1011,7 @@ impl<'a> Recorder<'a> {
         // SAFETY: both images are alive with TRANSFER_SRC / TRANSFER_DST usage and in the
         // layouts `sync` put them in; the copy only between images of one format.
         unsafe {
-            if from[2..] == to[2..] && src.format == dst.format {
+            if from[2..] == to[2..] && from[2] > 0 && from[3] > 0 && src.format == dst.format {
                 device.cmd_copy_image(cmd, src.raw, src_layout, dst.raw, dst_layout, &[copy]);
             } else {
                 let filter = vk::Filter::LINEAR;
