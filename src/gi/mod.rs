@@ -82,6 +82,9 @@ pub struct FrameContext<'a> {
     pub frame: u64,
     /// What changed since the previous frame (everything, on the first frame).
     pub changes: Changes,
+    /// The lights move in every frame (`FrameOptions::lights_move`): what depends on them alone
+    /// is redone every frame, so keeping it for a later frame is wasted work.
+    pub lights_move: bool,
     /// The HDR images carry indirect light alone (no direct light, no emission).
     pub indirect_only: bool,
 }

@@ -300,6 +300,7 @@ impl Frame {
             raster_lights: &frame.raster_lights,
             frame: frame.frames_recorded,
             changes,
+            lights_move: frame.options.lights_move,
             indirect_only: frame.options.indirect_only,
         };
         let method = gi.as_ref().map(|g| g.name());

@@ -1000,8 +1000,10 @@ impl Lpv {
             return Ok(());
         }
         self.record_new_injection(rec, ctx, rsm, views, lattices)?;
-        for (lattice, kept) in lattices.into_iter().zip(&self.injected) {
-            rec.copy_buffer("keep injection", lattice, kept, bytes);
+        if self.injection_kept {
+            for (lattice, kept) in lattices.into_iter().zip(&self.injected) {
+                rec.copy_buffer("keep injection", lattice, kept, bytes);
+            }
         }
         Ok(())
     }
@@ -1454,7 +1456,8 @@ impl Lpv {
         // The RSM and the injection depend on the lights and the geometry alone.
         self.reuses_injection =
             self.injection_kept && !ctx.changes.lights && !ctx.changes.geometry;
-        self.injection_kept = true;
+        // Lights that move in every frame leave nothing worth keeping.
+        self.injection_kept = !ctx.lights_move;
         let rows = std::mem::take(&mut self.pending_geometry);
         rec.update_buffer_runs("update geometry lattice", &self.geometry, &rows);
         // This frame's light goes into the lattice that does not hold last frame's result.
