@@ -193,7 +193,7 @@ pub fn run(
         }
     }
     let probe = || limits::measure(gpu).context("measuring the device's limits");
-    let mut run_limits = probe()?;
+    let mut run_limits: Option<DeviceLimits> = None;
     let mut frame = Frame::new(
         gpu,
         &scene,
@@ -221,7 +221,7 @@ pub fn run(
             config.frames,
         )?;
         let limits = before.best(probe()?);
-        run_limits = run_limits.best(limits);
+        run_limits = Some(run_limits.map_or(limits, |run| run.best(limits)));
         let report = ring.profiler.report();
         let core = method.core_pass();
         let bound = core.as_ref().map(|c| {
@@ -316,7 +316,10 @@ pub fn run(
         driver: gpu.info.driver.clone(),
         queue_plan: gpu.queues.describe(),
         direct_lighting: frame.direct_lighting(),
-        limits: run_limits,
+        limits: match run_limits {
+            Some(limits) => limits,
+            None => probe()?,
+        },
         configs,
         passes,
         scaling,

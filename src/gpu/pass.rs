@@ -1110,12 +1110,6 @@ impl<'a> Recorder<'a> {
         self.end_scope(scope);
     }
 
-    /// Copy a buffer, tightly packed layer after layer (rows of texels, then slices), into
-    /// every layer of an image.
-    pub fn copy_buffer_to_image(&mut self, name: &'static str, buffer: &Buffer, image: &Image) {
-        self.copy_buffer_to_region(name, buffer, image, whole_image_copy(image));
-    }
-
     /// Copy a tightly packed buffer into the box of `image` that starts at texel `offset` and
     /// spans `extent` texels (layer 0), leaving the rest of the image as it was.
     pub fn copy_buffer_to_box(
@@ -1126,6 +1120,11 @@ impl<'a> Recorder<'a> {
         offset: [i32; 3],
         extent: [u32; 3],
     ) {
+        let scope = self.begin_scope(name);
+        self.sync(&[
+            (Resource::Buffer(buffer), Access::TransferRead),
+            (Resource::Image(image), Access::TransferWrite),
+        ]);
         let region = vk::BufferImageCopy {
             image_offset: vk::Offset3D {
                 x: offset[0],
@@ -1139,24 +1138,9 @@ impl<'a> Recorder<'a> {
             },
             ..whole_image_copy(image)
         };
-        self.copy_buffer_to_region(name, buffer, image, region);
-    }
-
-    fn copy_buffer_to_region(
-        &mut self,
-        name: &'static str,
-        buffer: &Buffer,
-        image: &Image,
-        region: vk::BufferImageCopy,
-    ) {
-        let scope = self.begin_scope(name);
-        self.sync(&[
-            (Resource::Buffer(buffer), Access::TransferRead),
-            (Resource::Image(image), Access::TransferWrite),
-        ]);
         // SAFETY: the image is in TRANSFER_DST_OPTIMAL after `sync` (a layout change keeps its
         // contents: the old layout is the tracked one); callers size the buffer to hold every
-        // texel of the region.
+        // texel of the box.
         unsafe {
             self.gpu.shared.device.cmd_copy_buffer_to_image(
                 self.cmd,
