@@ -85,6 +85,7 @@ fn main() -> anyhow::Result<()> {
                 frames,
                 size: (160, 120),
                 submit: plan,
+                lookup_apart: false,
             };
             let result = run(&gpu, &config, |_, _| {})?;
             println!("==== {name}: {} ====", method.name);

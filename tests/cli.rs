@@ -463,3 +463,39 @@ fn a_dynamic_scene_renders_its_last_frame_and_the_reference_poses_any_frame() {
         "--frame",
     );
 }
+
+/// `--lookup-apart` draws LPV's lookup as a pass of its own after direct lighting, where it is
+/// otherwise drawn inside direct lighting; the profile table names what ran.
+#[test]
+fn lookup_apart_times_the_lookup_on_its_own() {
+    for (extra, ran, not_ran) in [
+        (None, "direct lighting + lpv lookup", "lpv lookup "),
+        (
+            Some("--lookup-apart"),
+            "lpv lookup ",
+            "direct lighting + lpv lookup",
+        ),
+    ] {
+        let mut args = vec![
+            "render",
+            "--scene",
+            "cornell",
+            "--method",
+            "lpv",
+            "--size",
+            "32x24",
+            "--profile",
+        ];
+        args.extend(extra);
+        let output = vkgi(&args);
+        let stdout = String::from_utf8_lossy(&output.stdout);
+        assert!(
+            output.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let row = |pass: &str| stdout.lines().any(|line| line.starts_with(pass));
+        assert!(row(ran), "{extra:?}: no '{ran}' in\n{stdout}");
+        assert!(!row(not_ran), "{extra:?}: '{not_ran}' in\n{stdout}");
+    }
+}

@@ -1987,3 +1987,96 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Where direct lighting is a fragment pass, the lookup is drawn inside it (one pass, the
+/// G-buffer read once): the same HDR and 8-bit images as direct lighting followed by the lookup
+/// apart (`lookup_apart`), for LPV and ILPV's two scales, with direct light and indirect alone,
+/// in a matte and a glossy scene. A scene whose direct lighting is a compute pass (a point light's
+/// six shadow views do not fit the fragment form's varyings) draws the lookup apart either way.
+#[test]
+fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
+    use vkgi::gi::lpv::Injection;
+    const LIT: &str = "direct lighting + lpv lookup";
+    let gpu = common::gpu();
+    let mut point_lit = Scene::load("cornell").unwrap();
+    point_lit.lights[0].kind = vkgi::scene::LightKind::Point;
+    let scenes = [
+        ("cornell", Scene::load("cornell").unwrap(), true),
+        (
+            "cornell-glossy",
+            Scene::load("cornell-glossy").unwrap(),
+            true,
+        ),
+        ("cornell under a point light", point_lit, false),
+    ];
+    for (name, scene, fragment_form) in &scenes {
+        for (scheme, indirect_only) in [
+            (Scheme::Ilpv, false),
+            (Scheme::Lpv, false),
+            (Scheme::Ilpv, true),
+        ] {
+            let settings = LpvSettings {
+                scheme,
+                injection: Injection::Fixed,
+                rsm: 64,
+                ..LpvSettings::default()
+            };
+            let run = |lookup_apart: bool| {
+                let options = vkgi::render::FrameOptions {
+                    width: 40,
+                    height: 30,
+                    indirect_only,
+                    lookup_apart,
+                    ..vkgi::render::FrameOptions::default()
+                };
+                let mut frame = vkgi::render::Frame::new(&gpu, scene, options).unwrap();
+                let mut method =
+                    two_scale::create(&Setup::new(&gpu, scene), settings.clone()).unwrap();
+                let ring =
+                    vkgi::render::runner::run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 3)
+                        .unwrap();
+                let passes: Vec<String> = ring
+                    .profiler
+                    .report()
+                    .passes
+                    .iter()
+                    .map(|p| p.name.clone())
+                    .collect();
+                let ldr = frame.read_ldr(&gpu).unwrap();
+                (frame.read_hdr(&gpu).unwrap(), ldr, passes)
+            };
+            let (inside, inside_ldr, inside_passes) = run(false);
+            let (apart, apart_ldr, apart_passes) = run(true);
+            let has = |passes: &[String], pass: &str| passes.iter().any(|p| p == pass);
+            let case = format!("{name}, {scheme:?}, indirect only {indirect_only}");
+            assert_eq!(
+                has(&inside_passes, LIT),
+                *fragment_form,
+                "{case}: {inside_passes:?}"
+            );
+            assert_eq!(has(&inside_passes, "lpv lookup"), !fragment_form, "{case}");
+            assert!(
+                has(&apart_passes, "lpv lookup") && !has(&apart_passes, LIT),
+                "{case}"
+            );
+            assert!(common::mean(&apart) > 0.0, "{case}: black");
+            // One sum instead of the blend's: the same up to the rounding of that sum.
+            let (worst, brightest) = common::worst_difference(&inside, &apart);
+            assert!(
+                worst <= 1e-6 * brightest,
+                "{case}: inside differs from apart by {worst} (brightest {brightest})"
+            );
+            // The tone map of radiance equal to rounding: 8-bit values apart by at most one.
+            let ldr_worst = inside_ldr
+                .iter()
+                .zip(&apart_ldr)
+                .map(|(a, b)| a.abs_diff(*b))
+                .max();
+            assert!(
+                ldr_worst <= Some(1),
+                "{case}: 8-bit images differ by {ldr_worst:?}"
+            );
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}

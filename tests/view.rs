@@ -504,7 +504,7 @@ fn the_gi_light_is_computed_once_per_frame_however_many_views() {
     }
     assert_eq!(count(&single_ring, "g-buffer"), 1.0);
     assert_eq!(count(&cave_ring, "g-buffer"), 4.0);
-    assert_eq!(count(&cave_ring, "lpv lookup"), 4.0);
+    assert_eq!(count(&cave_ring, "direct lighting + lpv lookup"), 4.0);
     common::assert_no_validation_errors(&gpu);
 }
 

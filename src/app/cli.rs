@@ -104,6 +104,11 @@ pub struct FrameArgs {
     /// not change keeps them; `vkgi profile` and `vkgi report` always redo them).
     #[arg(long)]
     pub lights_move: bool,
+    /// Draw the GI method's lookup as a pass of its own after direct lighting, where it is
+    /// otherwise drawn inside direct lighting (LPV and ILPV), e.g. to time the two apart; the
+    /// same image.
+    #[arg(long)]
+    pub lookup_apart: bool,
 }
 
 impl FrameArgs {
@@ -116,6 +121,7 @@ impl FrameArgs {
             indirect_only: self.indirect_only,
             submit: self.parts,
             lights_move: self.lights_move,
+            lookup_apart: self.lookup_apart,
         }
     }
 }
@@ -448,6 +454,9 @@ pub struct ProfileCommandArgs {
     /// How a method's independent parts are submitted (see `render --parts`).
     #[arg(long, visible_alias = "channels", value_enum, default_value_t = SubmitPlan::Auto)]
     pub parts: SubmitPlan,
+    /// Time a method's lookup apart from direct lighting (see `render --lookup-apart`).
+    #[arg(long)]
+    pub lookup_apart: bool,
     /// Write the profile as JSON.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,

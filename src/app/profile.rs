@@ -14,7 +14,7 @@ use crate::gi::registry::{self, MethodEntry, Setup};
 use crate::gi::settings::Settings;
 use crate::gpu::profiler::summarize;
 use crate::gpu::{Gpu, ProfileReport, Stage};
-use crate::render::passes::MaterialTerms;
+use crate::render::passes::{DIRECT_LIGHTING, MaterialTerms};
 use crate::render::runner::run_frames;
 use crate::render::{Frame, FrameOptions, SubmitPlan, cost};
 use crate::scene::Scene;
@@ -34,6 +34,8 @@ pub struct ProfileConfig {
     pub frames: u32,
     pub size: (u32, u32),
     pub submit: SubmitPlan,
+    /// Draw the methods' lookups apart from direct lighting (`FrameOptions::lookup_apart`).
+    pub lookup_apart: bool,
 }
 
 /// One pass of one configuration.
@@ -202,6 +204,7 @@ pub fn run(
             height: config.size.1,
             submit: config.submit,
             lights_move: true,
+            lookup_apart: config.lookup_apart,
             ..FrameOptions::default()
         },
     )?;
@@ -269,15 +272,20 @@ pub fn run(
             }
         });
         let pixels = config.size.0 as usize * config.size.1 as usize;
-        let pixel_passes = cost::pixel_passes(lights, MaterialTerms::of(&scene))
-            .into_iter()
+        let frame_passes = cost::pixel_passes(lights, MaterialTerms::of(&scene));
+        let direct = frame_passes.iter().find(|p| p.pass == DIRECT_LIGHTING);
+        // The passes that ran (direct lighting and the lookup run as one pass or apart).
+        let pixel_passes = frame_passes
+            .iter()
+            .cloned()
             .map(|p| (None, p))
             .chain(
                 method
                     .pixel_passes()
                     .into_iter()
-                    .map(|p| (Some(entry.name), p)),
+                    .map(|p| (Some(entry.name), with_direct_lighting(p, direct))),
             )
+            .filter(|(owner, p)| ran(&report, *owner, p.pass))
             .map(|(owner, p)| pixel_summary(&report, &limits, owner, &p, pixels))
             .collect();
         configs.push(ConfigSummary {
@@ -341,6 +349,27 @@ fn pass_median(report: &ProfileReport, owner: Option<&str>, pass: &str) -> f64 {
         .flat_map(|p| p.per_frame_ns.iter().copied())
         .collect();
     summarize("core", times.len(), times).median_ns
+}
+
+/// Whether pass `pass` of `owner` (None: the frame) ran in the profiled frames.
+fn ran(report: &ProfileReport, owner: Option<&str>, pass: &str) -> bool {
+    report
+        .passes
+        .iter()
+        .any(|p| p.tag.method == owner && p.tag.pass == pass)
+}
+
+/// A method's per-pixel pass with the bytes and flops of the frame's direct lighting (`direct`)
+/// added where it draws direct lighting too.
+fn with_direct_lighting(pass: PixelPass, direct: Option<&PixelPass>) -> PixelPass {
+    match direct {
+        Some(direct) if pass.with_direct_lighting => PixelPass {
+            bytes_per_pixel: pass.bytes_per_pixel + direct.bytes_per_pixel,
+            flops_per_pixel: pass.flops_per_pixel + direct.flops_per_pixel,
+            ..pass
+        },
+        _ => pass,
+    }
 }
 
 /// Per-pixel pass `pass` of `owner` (None: the frame) over `pixels` pixels against the bound.
@@ -528,6 +557,7 @@ pub fn run_command(args: &ProfileCommandArgs) -> anyhow::Result<()> {
         frames: args.frames,
         size: args.size,
         submit: args.parts,
+        lookup_apart: args.lookup_apart,
     };
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
     let bar = super::progress::counting("profile", "configurations");

@@ -9,7 +9,8 @@
 //!    may run on its own async compute queue;
 //! 4. [`GiMethod::light_done`] on the CPU, once every part is recorded;
 //! 5. [`GiMethod::record_lookup`] once per view, after the view's direct light, to add indirect
-//!    light to the view's HDR image.
+//!    light to the view's HDR image; or, where the method can, [`GiMethod::record_lit_lookup`]
+//!    to draw the view's direct light and its indirect light in one pass.
 //!
 //! Between frames, whoever drives them (the runner, the viewer) hands a method the geometry that
 //! moved ([`GiMethod::geometry_moved`]) and builds the method again where it cannot follow.
@@ -24,6 +25,7 @@ pub mod shared;
 use serde::Serialize;
 
 use crate::gpu::{Gpu, GpuResult, Image, Recorder, Sampler};
+use crate::render::passes::DirectDraw;
 use crate::render::targets::View;
 use crate::scene::dynamic::Aabb;
 use crate::scene::gpu::SceneBuffers;
@@ -121,6 +123,9 @@ pub struct PixelPass {
     pub pass: &'static str,
     pub bytes_per_pixel: f64,
     pub flops_per_pixel: f64,
+    /// The pass draws the frame's direct lighting too ([`GiMethod::record_lit_lookup`]): its
+    /// bound is direct lighting's plus these bytes and flops.
+    pub with_direct_lighting: bool,
 }
 
 /// A GI method: persistent GPU state plus the passes it adds to a frame.
@@ -168,6 +173,22 @@ pub trait GiMethod {
 
     /// Add indirect radiance to view `view`'s HDR image (after its direct lighting).
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()>;
+
+    /// Draw view `view`'s direct lighting (`direct`) with this method's indirect radiance
+    /// added, in one pass, instead of [`GiMethod::record_lookup`] after the frame's direct
+    /// lighting: the G-buffer is read once and the HDR image written once. False, with nothing
+    /// recorded, where the method has no such pass (the default) or none for `direct`'s shape:
+    /// the frame then records the two apart.
+    fn record_lit_lookup(
+        &self,
+        rec: &mut Recorder,
+        ctx: &FrameContext,
+        view: usize,
+        direct: &DirectDraw,
+    ) -> GpuResult<bool> {
+        let _ = (rec, ctx, view, direct);
+        Ok(false)
+    }
 
     /// Geometry moved before the next frame: `scene` is the scene as it is now and `regions` the
     /// world boxes whose geometry changed (where each moved object was and where it is). The

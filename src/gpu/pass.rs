@@ -161,6 +161,7 @@ fn transition(
 }
 
 /// A resource a pass binds, with what the pass does to it.
+#[derive(Clone, Copy)]
 pub enum Binding<'r> {
     StorageBuffer {
         binding: u32,

@@ -14,7 +14,7 @@ use super::{GpuError, GpuResult, vk_err};
 const ENTRY: &CStr = c"main";
 
 /// Specialization-constant values (all 4-byte: u32, i32 or f32 bits).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Specialization {
     entries: Vec<(u32, u32)>,
 }

@@ -30,6 +30,7 @@ pub fn pixel_passes(lights: u32, terms: MaterialTerms) -> Vec<PixelPass> {
             pass: GBUFFER,
             bytes_per_pixel: 40.0 + optional(terms.emissive || terms.glossy, 16.0),
             flops_per_pixel: 60.0,
+            with_direct_lighting: false,
         },
         PixelPass {
             pass: DIRECT_LIGHTING,
@@ -37,11 +38,13 @@ pub fn pixel_passes(lights: u32, terms: MaterialTerms) -> Vec<PixelPass> {
             flops_per_pixel: 27.0
                 + optional(terms.emissive, 3.0)
                 + (146.0 + optional(terms.glossy, 40.0)) * f64::from(lights),
+            with_direct_lighting: false,
         },
         PixelPass {
             pass: TONE_MAP,
             bytes_per_pixel: 20.0,
             flops_per_pixel: 24.0,
+            with_direct_lighting: false,
         },
     ]
 }

@@ -36,6 +36,11 @@ pub struct FrameOptions {
     /// geometry did not change otherwise keeps. Profiles and reports measure that frame.
     #[serde(default)]
     pub lights_move: bool,
+    /// Draw a GI method's lookup as a pass of its own after direct lighting, even where the
+    /// method can draw it inside direct lighting (`GiMethod::record_lit_lookup`), e.g. to time
+    /// the two apart. The image is the same.
+    #[serde(default)]
+    pub lookup_apart: bool,
 }
 
 impl Default for FrameOptions {
@@ -48,6 +53,7 @@ impl Default for FrameOptions {
             indirect_only: false,
             submit: SubmitPlan::Auto,
             lights_move: false,
+            lookup_apart: false,
         }
     }
 }
@@ -357,18 +363,37 @@ impl Frame {
             gi.light_done(&ctx);
         }
         segments.tail(&mut |rec| {
+            let shadows = (&frame.shadow_map, &frame.shadow_sampler);
+            let include_direct = !frame.options.indirect_only;
             for (v, view) in frame.views.iter().enumerate() {
-                rec.set_context(tag(Stage::Direct, Some(v)));
-                frame.passes.record_direct_lighting(
-                    rec,
-                    &frame.scene,
-                    (&frame.shadow_map, &frame.shadow_sampler),
-                    view,
-                    !frame.options.indirect_only,
-                )?;
-                if let Some(gi) = gi.as_deref() {
-                    rec.set_context(tag(Stage::GiLookup, Some(v)));
-                    gi.record_lookup(rec, &ctx, v)?;
+                // Direct lighting with the method's lookup in one pass, where it can.
+                let lit = match gi.as_deref() {
+                    Some(gi) if !frame.options.lookup_apart => {
+                        let direct =
+                            frame
+                                .passes
+                                .direct_draw(&frame.scene, shadows, view, include_direct);
+                        rec.set_context(tag(Stage::GiLookup, Some(v)));
+                        match direct {
+                            Some(direct) => gi.record_lit_lookup(rec, &ctx, v, &direct)?,
+                            None => false,
+                        }
+                    }
+                    _ => false,
+                };
+                if !lit {
+                    rec.set_context(tag(Stage::Direct, Some(v)));
+                    frame.passes.record_direct_lighting(
+                        rec,
+                        &frame.scene,
+                        shadows,
+                        view,
+                        include_direct,
+                    )?;
+                    if let Some(gi) = gi.as_deref() {
+                        rec.set_context(tag(Stage::GiLookup, Some(v)));
+                        gi.record_lookup(rec, &ctx, v)?;
+                    }
                 }
                 rec.set_context(tag(Stage::Output, Some(v)));
                 frame

@@ -7,8 +7,8 @@ use glam::Vec3;
 use super::full_screen::{Blend, full_screen};
 use super::targets::{GBUFFER_FORMATS, HDR_FORMAT, View};
 use crate::gpu::{
-    Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline,
-    RasterPipelineDesc, Recorder, Sampler, Specialization,
+    Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, PushConstants, RasterPass,
+    RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
 };
 use crate::scene::gpu::{SceneBuffers, shadow_view_ranges};
 use crate::scene::{Light, Material, Scene};
@@ -34,7 +34,8 @@ crate::push_constants! {
 }
 
 crate::push_constants! {
-    struct LightingPush {
+    /// Direct lighting's push constants (raster/direct.glsl).
+    pub struct LightingPush {
         camera_position: [f32; 4],
         size: [u32; 2],
         light_count: u32,
@@ -99,6 +100,70 @@ fn most_views(shared_light_views: &[(u32, u32)]) -> u32 {
     shared_light_views.iter().map(|v| v.1).max().unwrap_or(1)
 }
 
+/// What direct lighting's fragment form is specialised on (the scene's material terms and its
+/// shared lights' views): a GI method that draws direct light with its own per-pixel light in
+/// one pass (`GiMethod::record_lit_lookup`) builds its pipeline with these constants, its
+/// shaders including raster/lighting_vertex.glsl and raster/lighting_pixel.glsl.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DirectShape(Specialization);
+
+impl DirectShape {
+    /// Direct lighting's shape for `scene` lit by `raster_lights`, when it is a fragment pass
+    /// (None: a compute pass, whose lights do not fit the flat varyings).
+    pub fn of(scene: &Scene, raster_lights: &[Light]) -> Option<DirectShape> {
+        let (shared_light_views, specialization) = lighting_specialization(scene, raster_lights);
+        fragment_form_fits(&shared_light_views).then_some(DirectShape(specialization))
+    }
+
+    /// The specialisation constants (ids 0 to 3) of direct lighting's shaders.
+    pub fn specialization(&self) -> &Specialization {
+        &self.0
+    }
+}
+
+/// One view's direct lighting as a fragment pass, for a GI method to draw with its own light
+/// (`GiMethod::record_lit_lookup`): the pipeline's shape, the bindings (the G-buffer, the
+/// shadow map, the lights) and push constants of direct lighting, and the HDR image it writes.
+pub struct DirectDraw<'a> {
+    pub shape: &'a DirectShape,
+    pub bindings: Vec<Binding<'a>>,
+    push: LightingPush,
+    pub hdr: &'a Image,
+}
+
+impl DirectDraw<'_> {
+    pub fn push(&self) -> &dyn PushConstants {
+        &self.push
+    }
+}
+
+/// Direct lighting's shared lights' shadow views (empty when the scene has more lights than
+/// [`MAX_SHARED_LIGHTS`]) and its specialisation constants for `scene` lit by `raster_lights`.
+fn lighting_specialization(
+    scene: &Scene,
+    raster_lights: &[Light],
+) -> (Vec<(u32, u32)>, Specialization) {
+    let terms = MaterialTerms::of(scene);
+    let shared_light_views = if raster_lights.len() <= MAX_SHARED_LIGHTS {
+        shadow_view_ranges(raster_lights)
+    } else {
+        Vec::new()
+    };
+    let specialization = Specialization::new()
+        .with_u32(0, u32::from(terms.emissive))
+        .with_u32(1, u32::from(terms.glossy))
+        .with_u32(2, shared_light_views.len() as u32)
+        .with_u32(3, most_views(&shared_light_views));
+    (shared_light_views, specialization)
+}
+
+/// Whether direct lighting can be the fragment form: some lights are shared, and they and their
+/// views fit the flat varyings.
+fn fragment_form_fits(shared_light_views: &[(u32, u32)]) -> bool {
+    !shared_light_views.is_empty()
+        && light_varying_words(shared_light_views) <= ids::LIGHTING_VARYING_WORDS
+}
+
 /// The pipelines of the frame's own passes.
 pub struct ScenePasses {
     /// The shared lights' shadow views (first, count), when direct lighting reads the lights at
@@ -110,6 +175,8 @@ pub struct ScenePasses {
     gbuffer_terms: bool,
     gbuffer: RasterPipeline,
     lighting: DirectLighting,
+    /// The fragment form's shape (None: the compute form).
+    shape: Option<DirectShape>,
     tonemap: RasterPipeline,
 }
 
@@ -122,20 +189,11 @@ impl ScenePasses {
     pub fn new(gpu: &Gpu, scene: &Scene, raster_lights: &[Light]) -> GpuResult<ScenePasses> {
         let none = Specialization::new();
         let terms = MaterialTerms::of(scene);
-        let shared_light_views = if raster_lights.len() <= MAX_SHARED_LIGHTS {
-            shadow_view_ranges(raster_lights)
-        } else {
-            Vec::new()
-        };
-        let most_views = most_views(&shared_light_views);
-        let lighting = Specialization::new()
-            .with_u32(0, u32::from(terms.emissive))
-            .with_u32(1, u32::from(terms.glossy))
-            .with_u32(2, shared_light_views.len() as u32)
-            .with_u32(3, most_views);
+        let (shared_light_views, lighting) = lighting_specialization(scene, raster_lights);
         let gbuffer_terms = terms.emissive || terms.glossy;
         Ok(ScenePasses {
             lighting: direct_lighting(gpu, &shared_light_views, &lighting)?,
+            shape: DirectShape::of(scene, raster_lights),
             gbuffer_terms,
             shared_light_views,
             shadow: RasterPipeline::new(
@@ -272,34 +330,10 @@ impl ScenePasses {
         view: &View,
         include_direct: bool,
     ) -> GpuResult<()> {
-        let g = &view.gbuffer;
-        let mut push = LightingPush {
-            camera_position: view.eye.position.extend(1.0).to_array(),
-            size: [view.width(), view.height()],
-            light_count: scene.light_count,
-            include_direct: u32::from(include_direct),
-            first_view: [0; MAX_SHARED_LIGHTS],
-            view_count: [0; MAX_SHARED_LIGHTS],
-        };
-        for (i, &(first, count)) in self.shared_light_views.iter().enumerate() {
-            push.first_view[i] = first;
-            push.view_count[i] = count;
-        }
-        let inputs = || {
-            vec![
-                Binding::image_read(ids::LIGHTING_GBUFFER_POSITION, &g.position),
-                Binding::image_read(ids::LIGHTING_GBUFFER_NORMAL, &g.normal),
-                Binding::image_read(ids::LIGHTING_GBUFFER_ALBEDO, &g.albedo),
-                Binding::image_read(ids::LIGHTING_GBUFFER_EMISSION, &g.emission),
-                Binding::image_read(ids::LIGHTING_GBUFFER_SPECULAR, &g.specular),
-                Binding::sampled(ids::LIGHTING_SHADOW_MAP, shadows.0, shadows.1),
-                Binding::read(ids::LIGHTING_LIGHTS, &scene.lights),
-                Binding::read(ids::LIGHTING_SHADOW_VIEWS, &scene.shadow_views),
-            ]
-        };
+        let push = self.lighting_push(scene, view, include_direct);
+        let mut bindings = lighting_inputs(scene, shadows, view);
         match &self.lighting {
             DirectLighting::Compute(pipeline) => {
-                let mut bindings = inputs();
                 bindings.push(Binding::image_write(ids::LIGHTING_HDR_OUT, &view.hdr));
                 rec.compute(&ComputePass {
                     name: DIRECT_LIGHTING,
@@ -312,7 +346,7 @@ impl ScenePasses {
             DirectLighting::Fragment(pipeline) => rec.raster(&RasterPass {
                 name: DIRECT_LIGHTING,
                 pipeline,
-                bindings: &inputs(),
+                bindings: &bindings,
                 push: &push,
                 color: &[(&view.hdr, 0, [0.0; 4])],
                 depth: None,
@@ -320,6 +354,44 @@ impl ScenePasses {
                 keep_contents: false,
             }),
         }
+    }
+
+    /// A view's direct lighting for a GI method to draw with its own light, when direct
+    /// lighting is a fragment pass (None: a compute pass).
+    pub fn direct_draw<'a>(
+        &'a self,
+        scene: &'a SceneBuffers,
+        shadows: (&'a Image, &'a Sampler),
+        view: &'a View,
+        include_direct: bool,
+    ) -> Option<DirectDraw<'a>> {
+        Some(DirectDraw {
+            shape: self.shape.as_ref()?,
+            bindings: lighting_inputs(scene, shadows, view),
+            push: self.lighting_push(scene, view, include_direct),
+            hdr: &view.hdr,
+        })
+    }
+
+    fn lighting_push(
+        &self,
+        scene: &SceneBuffers,
+        view: &View,
+        include_direct: bool,
+    ) -> LightingPush {
+        let mut push = LightingPush {
+            camera_position: view.eye.position.extend(1.0).to_array(),
+            size: [view.width(), view.height()],
+            light_count: scene.light_count,
+            include_direct: u32::from(include_direct),
+            first_view: [0; MAX_SHARED_LIGHTS],
+            view_count: [0; MAX_SHARED_LIGHTS],
+        };
+        for (i, &(first, count)) in self.shared_light_views.iter().enumerate() {
+            push.first_view[i] = first;
+            push.view_count[i] = count;
+        }
+        push
     }
 
     /// Exposure, tone mapping and sRGB encoding into a view's 8-bit output.
@@ -345,6 +417,25 @@ impl ScenePasses {
     }
 }
 
+/// What direct lighting reads: a view's G-buffer, the shadow map and the lights.
+fn lighting_inputs<'a>(
+    scene: &'a SceneBuffers,
+    shadows: (&'a Image, &'a Sampler),
+    view: &'a View,
+) -> Vec<Binding<'a>> {
+    let g = &view.gbuffer;
+    vec![
+        Binding::image_read(ids::LIGHTING_GBUFFER_POSITION, &g.position),
+        Binding::image_read(ids::LIGHTING_GBUFFER_NORMAL, &g.normal),
+        Binding::image_read(ids::LIGHTING_GBUFFER_ALBEDO, &g.albedo),
+        Binding::image_read(ids::LIGHTING_GBUFFER_EMISSION, &g.emission),
+        Binding::image_read(ids::LIGHTING_GBUFFER_SPECULAR, &g.specular),
+        Binding::sampled(ids::LIGHTING_SHADOW_MAP, shadows.0, shadows.1),
+        Binding::read(ids::LIGHTING_LIGHTS, &scene.lights),
+        Binding::read(ids::LIGHTING_SHADOW_VIEWS, &scene.shadow_views),
+    ]
+}
+
 /// The G-buffer's targets: all five (`GBUFFER_FORMATS`) with emission and the glossy lobe, the
 /// first three (position, normal, albedo) without.
 fn gbuffer_targets(terms: bool) -> usize {
@@ -358,8 +449,7 @@ fn direct_lighting(
     shared_light_views: &[(u32, u32)],
     specialization: &Specialization,
 ) -> GpuResult<DirectLighting> {
-    let words = light_varying_words(shared_light_views);
-    if shared_light_views.is_empty() || words > ids::LIGHTING_VARYING_WORDS {
+    if !fragment_form_fits(shared_light_views) {
         return Ok(DirectLighting::Compute(ComputePipeline::new(
             gpu,
             DIRECT_LIGHTING,

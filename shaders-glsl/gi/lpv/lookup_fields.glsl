@@ -1,16 +1,30 @@
 #ifndef VKGI_LPV_LOOKUP_FIELDS_GLSL
 #define VKGI_LPV_LOOKUP_FIELDS_GLSL
-// The lookup's fields (one lattice, or ILPV's near and far lattices) as src/gi/lpv/lookup.rs
-// pushes them, and as lpv/lookup.vert hands them to lpv/lookup.frag: per field three flat words,
-// (origin, cell size), the lattice's cells (as floats) and (scale, offset).
+// The vertex side of the lookup: its fields (one lattice, or ILPV's near and far lattices) as
+// src/gi/lpv/lookup.rs writes them into a buffer once, handed to every fragment as
+// LOOKUP_FIELD_WORDS flat varyings from location LOOKUP_FIELDS_LOCATION on (0 unless the
+// shader defines it): per field (origin, cell size), the lattice's cells (as floats) and
+// (scale, offset). lpv/lookup_light.glsl is the fragment side.
 #extension GL_EXT_control_flow_attributes : require
 
-layout(push_constant) uniform Push {
+#ifndef LOOKUP_FIELDS_LOCATION
+#define LOOKUP_FIELDS_LOCATION 0
+#endif
+
+layout(binding = LOOKUP_FIELDS, std430) readonly buffer Fields {
     vec4 origin_cell[2];   // per field: xyz lattice origin, w cell size
     ivec4 dims[2];
     vec4 scale_offset[2];  // x: 1 / (pi cell²) times the method's scale; y: the offset in cells
-} pc;
+} lookup_fields;
 
-const int FIELD_WORDS = 6;
+layout(location = LOOKUP_FIELDS_LOCATION) flat out vec4 fields[LOOKUP_FIELD_WORDS];
+
+void write_field_words() {
+    [[unroll]] for (int f = 0; f < 2; ++f) {
+        fields[3 * f] = lookup_fields.origin_cell[f];
+        fields[3 * f + 1] = vec4(lookup_fields.dims[f]);
+        fields[3 * f + 2] = lookup_fields.scale_offset[f];
+    }
+}
 
 #endif

@@ -50,14 +50,21 @@ crate::shared_constants! {
     STEP_CONSTANTS: u32 = 13;
 
     // ---- lookup ----
+    // The G-buffer (lpv/lookup.frag; inside direct lighting, lpv/lit_lookup.frag reads it
+    // through direct lighting's bindings, LIGHTING_*, which the numbers below stay clear of).
     LOOKUP_GBUFFER_POSITION: u32 = 0;
     LOOKUP_GBUFFER_NORMAL: u32 = 1;
     LOOKUP_GBUFFER_ALBEDO: u32 = 2;
-    LOOKUP_LATTICE_R: u32 = 3;
-    LOOKUP_LATTICE_G: u32 = 4;
-    LOOKUP_LATTICE_B: u32 = 5;
+    LOOKUP_LATTICE_R: u32 = 16;
+    LOOKUP_LATTICE_G: u32 = 17;
+    LOOKUP_LATTICE_B: u32 = 18;
     // Two scales: the far field's lattices (a one-lattice lookup binds its own here too).
-    LOOKUP_FAR_LATTICE_R: u32 = 7;
-    LOOKUP_FAR_LATTICE_G: u32 = 8;
-    LOOKUP_FAR_LATTICE_B: u32 = 9;
+    LOOKUP_FAR_LATTICE_R: u32 = 19;
+    LOOKUP_FAR_LATTICE_G: u32 = 20;
+    LOOKUP_FAR_LATTICE_B: u32 = 21;
+    // The fields' constants (lpv/lookup_fields.glsl), and their flat varyings.
+    LOOKUP_FIELDS: u32 = 22;
+    LOOKUP_FIELD_WORDS: u32 = 6;
+    // The specialisation constant of the number of fields, clear of direct lighting's.
+    LOOKUP_FIELDS_CONSTANT: u32 = 8;
 }

@@ -75,9 +75,12 @@ pub fn flops_per_cell(scheme: Scheme, geometry_words: u32, channels: u32) -> f64
 /// Bytes the lookup moves per pixel at the ideal.
 pub const LOOKUP_BYTES_PER_PIXEL: f64 = 64.0;
 
+/// Flops of the normal's normalisation, which a lookup inside direct lighting shares with it.
+pub const NORMALISE_FLOPS: f64 = 9.0;
+
 /// Flops of a lookup of `lattices` lattices (two for ILPV's two scales) per pixel.
 pub fn lookup_flops_per_pixel(lattices: u32) -> f64 {
-    12.0 + 263.0 * f64::from(lattices)
+    NORMALISE_FLOPS + 3.0 + 263.0 * f64::from(lattices)
 }
 
 #[cfg(test)]

@@ -1,5 +1,9 @@
-//! The lookup pass: indirect light from one lattice, or from both lattices of ILPV's two
-//! scales in one pass, so that the G-buffer is read and the HDR image read and written once.
+//! The lookup: indirect light from one lattice, or from both lattices of ILPV's two scales in
+//! one pass, so that the G-buffer is read and the HDR image read and written once. Where the
+//! frame's direct lighting is a fragment pass, the lookup is drawn inside it
+//! (`lpv/lit_lookup.{vert,frag}`): the G-buffer read once for both and the HDR image written
+//! once; else, or when the frame asks (`FrameOptions::lookup_apart`), as a pass of its own
+//! after it (`lpv/lookup.{vert,frag}`).
 
 use ash::vk;
 use glam::Vec3;
@@ -8,31 +12,40 @@ use super::bindings as ids;
 use super::cost;
 use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
-    Binding, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline, Recorder, Sampler,
-    Specialization,
+    Binding, Buffer, BufferDesc, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline, Recorder,
+    Sampler, Specialization,
 };
 use crate::render::full_screen::{Blend, FullScreenShaders, full_screen_with};
+use crate::render::passes::{DirectDraw, DirectShape};
 use crate::render::targets::HDR_FORMAT;
+use crate::scene::Scene;
 use crate::shaders;
 
 /// The pass's name in the profile.
 const LOOKUP: &str = "lpv lookup";
+/// The name of direct lighting with the lookup in the profile.
+const LIT_LOOKUP: &str = "direct lighting + lpv lookup";
 
-crate::push_constants! {
-    struct LookupPush {
-        origin_cell: [[f32; 4]; 2],
-        dims: [[i32; 4]; 2],
-        scale_offset: [[f32; 4]; 2],
-    }
-}
-
-/// The lookup of `lattices` lattices as a per-pixel pass of the profile.
-pub fn lookup_pass(lattices: u32) -> PixelPass {
-    PixelPass {
-        pass: LOOKUP,
-        bytes_per_pixel: cost::LOOKUP_BYTES_PER_PIXEL,
-        flops_per_pixel: cost::lookup_flops_per_pixel(lattices),
-    }
+/// The lookup of `lattices` lattices as per-pixel passes of the profile: apart, and inside
+/// direct lighting (where its bound adds to direct lighting's what the lookup adds to it: no
+/// bytes, since the G-buffer is read and the HDR pixel written for direct lighting anyway, and
+/// the lookup's arithmetic but the normal's normalisation).
+pub fn lookup_passes(lattices: u32) -> [PixelPass; 2] {
+    let flops = cost::lookup_flops_per_pixel(lattices);
+    [
+        PixelPass {
+            pass: LOOKUP,
+            bytes_per_pixel: cost::LOOKUP_BYTES_PER_PIXEL,
+            flops_per_pixel: flops,
+            with_direct_lighting: false,
+        },
+        PixelPass {
+            pass: LIT_LOOKUP,
+            bytes_per_pixel: 0.0,
+            flops_per_pixel: flops - cost::NORMALISE_FLOPS,
+            with_direct_lighting: true,
+        },
+    ]
 }
 
 /// Cells of zero around the lattice in the lookup's 3-D images: the lookup samples them
@@ -69,21 +82,61 @@ impl LookupField<'_> {
     }
 }
 
-/// The lookup pipeline for a number of fields (1 or 2), and its trilinear sampler.
+/// The fields' constants as `lpv/lookup_fields.glsl` reads them: per field the origin of its
+/// images and the cell size, the images' size, and (scale, offset). A one-field lookup repeats
+/// its field, which the shader leaves be.
+fn field_words(fields: &[LookupField]) -> [[f32; 4]; 6] {
+    let (near, far) = (&fields[0], &fields[fields.len() - 1]);
+    let dims = |f: &LookupField| f.image_dims().map(|d| f32::from_bits(d as u32));
+    [
+        near.origin_cell(),
+        far.origin_cell(),
+        dims(near),
+        dims(far),
+        [near.scale, near.offset, 0.0, 0.0],
+        [far.scale, far.offset, 0.0, 0.0],
+    ]
+}
+
+/// The lookup's pipelines for a number of fields (1 or 2), its trilinear sampler and the buffer
+/// of the fields' constants.
 pub struct Lookup {
-    pipeline: RasterPipeline,
+    /// The lookup as a pass of its own.
+    apart: RasterPipeline,
+    /// Direct lighting with the lookup, for direct lighting of this shape (None: direct
+    /// lighting is a compute pass for the scene the lookup was built for).
+    lit: Option<(DirectShape, RasterPipeline)>,
     /// Trilinear, clamped to the edge: the images' border of zero cells makes the outside
     /// of the lattice transparent black (as if it were empty).
     sampler: Sampler,
+    /// The fields' constants, written before each draw (`field_words`).
+    words: Buffer,
     fields: usize,
 }
 
 impl Lookup {
-    pub fn new(gpu: &Gpu, fields: usize) -> GpuResult<Lookup> {
+    pub fn new(gpu: &Gpu, scene: &Scene, fields: usize) -> GpuResult<Lookup> {
         assert!(matches!(fields, 1 | 2), "the lookup reads one or two fields");
-        let spec = Specialization::new().with_u32(0, fields as u32);
+        let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, fields as u32);
+        let lit = match DirectShape::of(scene, &scene.raster_lights()) {
+            Some(shape) => {
+                let pipeline = full_screen_with(
+                    gpu,
+                    LIT_LOOKUP,
+                    FullScreenShaders {
+                        vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
+                        fragment: shaders::GI_LPV_LIT_LOOKUP_FRAG,
+                    },
+                    HDR_FORMAT,
+                    Blend::Replace,
+                    &own(shape.specialization().clone()),
+                )?;
+                Some((shape, pipeline))
+            }
+            None => None,
+        };
         Ok(Lookup {
-            pipeline: full_screen_with(
+            apart: full_screen_with(
                 gpu,
                 LOOKUP,
                 FullScreenShaders {
@@ -92,15 +145,46 @@ impl Lookup {
                 },
                 HDR_FORMAT,
                 Blend::Add,
-                &spec,
+                &own(Specialization::new()),
             )?,
+            lit,
             sampler: gpu
                 .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
+            words: gpu.create_buffer(&BufferDesc::storage(
+                "lookup fields",
+                std::mem::size_of::<[[f32; 4]; 6]>() as u64,
+            ))?,
             fields,
         })
     }
 
-    /// Add `fields`' indirect light to view `view`'s HDR image.
+    /// Write `fields`' constants for the next draw, and bind their lattices and constants.
+    fn field_bindings<'a>(
+        &'a self,
+        rec: &mut Recorder,
+        fields: &[LookupField<'a>],
+    ) -> Vec<Binding<'a>> {
+        assert_eq!(fields.len(), self.fields, "the lookup was built for {} fields", self.fields);
+        rec.update_buffer(
+            "lookup fields",
+            &self.words,
+            bytemuck::bytes_of(&field_words(fields)),
+        );
+        // A one-field lookup binds its lattice in the far slots too; the shader leaves them be.
+        let [r, g, b] = fields[0].images;
+        let [far_r, far_g, far_b] = fields[fields.len() - 1].images;
+        vec![
+            Binding::sampled(ids::LOOKUP_LATTICE_R, r, &self.sampler),
+            Binding::sampled(ids::LOOKUP_LATTICE_G, g, &self.sampler),
+            Binding::sampled(ids::LOOKUP_LATTICE_B, b, &self.sampler),
+            Binding::sampled(ids::LOOKUP_FAR_LATTICE_R, far_r, &self.sampler),
+            Binding::sampled(ids::LOOKUP_FAR_LATTICE_G, far_g, &self.sampler),
+            Binding::sampled(ids::LOOKUP_FAR_LATTICE_B, far_b, &self.sampler),
+            Binding::read(ids::LOOKUP_FIELDS, &self.words),
+        ]
+    }
+
+    /// Add `fields`' indirect light to view `view`'s HDR image, after its direct lighting.
     pub fn record(
         &self,
         rec: &mut Recorder,
@@ -108,41 +192,50 @@ impl Lookup {
         view: usize,
         fields: &[LookupField],
     ) -> GpuResult<()> {
-        assert_eq!(fields.len(), self.fields, "the lookup was built for {} fields", self.fields);
-        // A one-field lookup binds its lattice in the far slots too; the shader leaves them be.
-        let far = &fields[fields.len() - 1];
-        let near = &fields[0];
         let view = &ctx.views[view];
-        let push = LookupPush {
-            origin_cell: [near.origin_cell(), far.origin_cell()],
-            dims: [near.image_dims(), far.image_dims()],
-            scale_offset: [
-                [near.scale, near.offset, 0.0, 0.0],
-                [far.scale, far.offset, 0.0, 0.0],
-            ],
-        };
         let gb = &view.gbuffer;
-        let [r, g, b] = near.images;
-        let [far_r, far_g, far_b] = far.images;
+        let mut bindings = self.field_bindings(rec, fields);
+        bindings.extend([
+            Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
+            Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
+            Binding::image_read(ids::LOOKUP_GBUFFER_ALBEDO, &gb.albedo),
+        ]);
         rec.raster(&RasterPass {
             name: LOOKUP,
-            pipeline: &self.pipeline,
-            bindings: &[
-                Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
-                Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
-                Binding::image_read(ids::LOOKUP_GBUFFER_ALBEDO, &gb.albedo),
-                Binding::sampled(ids::LOOKUP_LATTICE_R, r, &self.sampler),
-                Binding::sampled(ids::LOOKUP_LATTICE_G, g, &self.sampler),
-                Binding::sampled(ids::LOOKUP_LATTICE_B, b, &self.sampler),
-                Binding::sampled(ids::LOOKUP_FAR_LATTICE_R, far_r, &self.sampler),
-                Binding::sampled(ids::LOOKUP_FAR_LATTICE_G, far_g, &self.sampler),
-                Binding::sampled(ids::LOOKUP_FAR_LATTICE_B, far_b, &self.sampler),
-            ],
-            push: &push,
+            pipeline: &self.apart,
+            bindings: &bindings,
+            push: &(),
             color: &[(&view.hdr, 0, [0.0; 4])],
             depth: None,
             draw: Draw::Vertices(3),
             keep_contents: true,
         })
+    }
+
+    /// Draw `direct` with `fields`' indirect light added, if this lookup was built for
+    /// direct lighting of its shape (false: nothing recorded).
+    pub fn record_lit(
+        &self,
+        rec: &mut Recorder,
+        direct: &DirectDraw,
+        fields: &[LookupField],
+    ) -> GpuResult<bool> {
+        let Some((_, pipeline)) = self.lit.as_ref().filter(|(shape, _)| shape == direct.shape)
+        else {
+            return Ok(false);
+        };
+        let mut bindings = direct.bindings.clone();
+        bindings.extend(self.field_bindings(rec, fields));
+        rec.raster(&RasterPass {
+            name: LIT_LOOKUP,
+            pipeline,
+            bindings: &bindings,
+            push: direct.push(),
+            color: &[(direct.hdr, 0, [0.0; 4])],
+            depth: None,
+            draw: Draw::Vertices(3),
+            keep_contents: false,
+        })?;
+        Ok(true)
     }
 }

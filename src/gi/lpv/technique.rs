@@ -11,7 +11,7 @@ use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
-use super::lookup::{LOOKUP_BORDER, Lookup, LookupField, lookup_pass};
+use super::lookup::{LOOKUP_BORDER, Lookup, LookupField, lookup_passes};
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
 use crate::gi::registry::Setup;
@@ -20,6 +20,7 @@ use crate::gi::shared::sh;
 use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod, PixelPass};
 use crate::scene::dynamic::Aabb;
 use crate::scene::{Light, Scene};
+use crate::render::passes::DirectDraw;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
     ImageDesc, Part, Recorder, Specialization,
@@ -603,8 +604,15 @@ impl Lpv {
     pub fn new(setup: &Setup, settings: LpvSettings) -> anyhow::Result<Lpv> {
         settings.validate()?;
         let mut lpv = Self::with_field(setup, settings, Field::Whole)?;
-        lpv.lookup = Some(Lookup::new(setup.gpu, 1)?);
+        lpv.lookup = Some(Lookup::new(setup.gpu, setup.scene, 1)?);
         Ok(lpv)
+    }
+
+    /// The lookup of a lattice looked up on its own.
+    fn own_lookup(&self) -> GpuResult<&Lookup> {
+        self.lookup.as_ref().ok_or_else(|| {
+            GpuError::Setup("a lattice of two scales is looked up by its two-scale owner".into())
+        })
     }
 
     /// This lattice as the lookup reads it.
@@ -1602,10 +1610,19 @@ impl GiMethod for Lpv {
     }
 
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
-        let lookup = self.lookup.as_ref().ok_or_else(|| {
-            GpuError::Setup("a lattice of two scales is looked up by its two-scale owner".into())
-        })?;
-        lookup.record(rec, ctx, view, &[self.lookup_field()])
+        self.own_lookup()?
+            .record(rec, ctx, view, &[self.lookup_field()])
+    }
+
+    fn record_lit_lookup(
+        &self,
+        rec: &mut Recorder,
+        _ctx: &FrameContext,
+        _view: usize,
+        direct: &DirectDraw,
+    ) -> GpuResult<bool> {
+        self.own_lookup()?
+            .record_lit(rec, direct, &[self.lookup_field()])
     }
 
     fn geometry_moved(
@@ -1657,7 +1674,7 @@ impl GiMethod for Lpv {
         })
     }
     fn pixel_passes(&self) -> Vec<PixelPass> {
-        vec![lookup_pass(1)]
+        lookup_passes(1).to_vec()
     }
 
     fn describe(&self) -> Vec<String> {

@@ -16,11 +16,12 @@
 //! cells (it is coarse on purpose); the sealed-box leak tests run on one lattice.
 
 use super::free_path::mean_free_path;
-use super::lookup::{Lookup, lookup_pass};
+use super::lookup::{Lookup, lookup_passes};
 use super::technique::{FarLattice, Field, IlpvLookup, Lpv, LpvSettings, Scheme};
 use crate::gi::registry::Setup;
 use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod, PixelPass};
 use crate::gpu::{Gpu, GpuError, GpuResult, Recorder};
+use crate::render::passes::DirectDraw;
 use crate::scene::Scene;
 use crate::scene::dynamic::Aabb;
 
@@ -58,7 +59,7 @@ impl TwoScale {
         Ok(TwoScale {
             near,
             far: Lpv::with_field(setup, far, Field::Far)?,
-            lookup: Lookup::new(setup.gpu, 2)?,
+            lookup: Lookup::new(setup.gpu, setup.scene, 2)?,
         })
     }
 }
@@ -109,6 +110,17 @@ impl GiMethod for TwoScale {
         self.lookup.record(rec, ctx, view, &fields)
     }
 
+    fn record_lit_lookup(
+        &self,
+        rec: &mut Recorder,
+        _ctx: &FrameContext,
+        _view: usize,
+        direct: &DirectDraw,
+    ) -> GpuResult<bool> {
+        let fields = [self.near.lookup_field(), self.far.lookup_field()];
+        self.lookup.record_lit(rec, direct, &fields)
+    }
+
     fn geometry_moved(
         &mut self,
         _gpu: &Gpu,
@@ -145,7 +157,7 @@ impl GiMethod for TwoScale {
 
     /// Both lattices' lookup, in one pass.
     fn pixel_passes(&self) -> Vec<PixelPass> {
-        vec![lookup_pass(2)]
+        lookup_passes(2).to_vec()
     }
 
     fn describe(&self) -> Vec<String> {
