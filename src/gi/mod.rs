@@ -15,7 +15,8 @@
 //! Between frames, whoever drives them (the runner, the viewer) hands a method the geometry that
 //! moved ([`GiMethod::geometry_moved`]) and builds the method again where it cannot follow.
 //!
-//! Methods see the frame only through [`FrameContext`] (scene buffers, shadow maps, views), so
+//! Methods see the frame only through [`FrameContext`] (scene buffers, shadow maps, views) and,
+//! to draw direct lighting with their own light, through the frame's passes' [`DirectDraw`], so
 //! this module sits below the frame and never imports it.
 
 pub mod registry;

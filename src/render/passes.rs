@@ -112,7 +112,18 @@ impl DirectShape {
     /// (None: a compute pass, whose lights do not fit the flat varyings).
     pub fn of(scene: &Scene, raster_lights: &[Light]) -> Option<DirectShape> {
         let (shared_light_views, specialization) = lighting_specialization(scene, raster_lights);
-        fragment_form_fits(&shared_light_views).then_some(DirectShape(specialization))
+        Self::fitting(&shared_light_views, specialization)
+    }
+
+    /// The shape of direct lighting specialised as `specialization` for `shared_light_views`,
+    /// when those fit the fragment form's flat varyings.
+    fn fitting(
+        shared_light_views: &[(u32, u32)],
+        specialization: Specialization,
+    ) -> Option<DirectShape> {
+        let fits = !shared_light_views.is_empty()
+            && light_varying_words(shared_light_views) <= ids::LIGHTING_VARYING_WORDS;
+        fits.then_some(DirectShape(specialization))
     }
 
     /// The specialisation constants (ids 0 to 3) of direct lighting's shaders.
@@ -157,13 +168,6 @@ fn lighting_specialization(
     (shared_light_views, specialization)
 }
 
-/// Whether direct lighting can be the fragment form: some lights are shared, and they and their
-/// views fit the flat varyings.
-fn fragment_form_fits(shared_light_views: &[(u32, u32)]) -> bool {
-    !shared_light_views.is_empty()
-        && light_varying_words(shared_light_views) <= ids::LIGHTING_VARYING_WORDS
-}
-
 /// The pipelines of the frame's own passes.
 pub struct ScenePasses {
     /// The shared lights' shadow views (first, count), when direct lighting reads the lights at
@@ -190,10 +194,11 @@ impl ScenePasses {
         let none = Specialization::new();
         let terms = MaterialTerms::of(scene);
         let (shared_light_views, lighting) = lighting_specialization(scene, raster_lights);
+        let shape = DirectShape::fitting(&shared_light_views, lighting.clone());
         let gbuffer_terms = terms.emissive || terms.glossy;
         Ok(ScenePasses {
-            lighting: direct_lighting(gpu, &shared_light_views, &lighting)?,
-            shape: DirectShape::of(scene, raster_lights),
+            lighting: direct_lighting(gpu, shape.is_some(), &lighting)?,
+            shape,
             gbuffer_terms,
             shared_light_views,
             shadow: RasterPipeline::new(
@@ -442,14 +447,14 @@ fn gbuffer_targets(terms: bool) -> usize {
     if terms { GBUFFER_FORMATS.len() } else { 3 }
 }
 
-/// Direct lighting's pipeline: the fragment form where the shared lights' varyings fit, else
-/// the compute form.
+/// Direct lighting's pipeline: the fragment form where the shared lights' varyings fit
+/// (`fragment`), else the compute form.
 fn direct_lighting(
     gpu: &Gpu,
-    shared_light_views: &[(u32, u32)],
+    fragment: bool,
     specialization: &Specialization,
 ) -> GpuResult<DirectLighting> {
-    if !fragment_form_fits(shared_light_views) {
+    if !fragment {
         return Ok(DirectLighting::Compute(ComputePipeline::new(
             gpu,
             DIRECT_LIGHTING,

@@ -82,10 +82,13 @@ impl LookupField<'_> {
     }
 }
 
+/// The fields' constants: `LOOKUP_FIELD_WORDS` words of four.
+type FieldWords = [[f32; 4]; ids::LOOKUP_FIELD_WORDS as usize];
+
 /// The fields' constants as `lpv/lookup_fields.glsl` reads them: per field the origin of its
 /// images and the cell size, the images' size, and (scale, offset). A one-field lookup repeats
 /// its field, which the shader leaves be.
-fn field_words(fields: &[LookupField]) -> [[f32; 4]; 6] {
+fn field_words(fields: &[LookupField]) -> FieldWords {
     let (near, far) = (&fields[0], &fields[fields.len() - 1]);
     let dims = |f: &LookupField| f.image_dims().map(|d| f32::from_bits(d as u32));
     [
@@ -152,7 +155,7 @@ impl Lookup {
                 .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
             words: gpu.create_buffer(&BufferDesc::storage(
                 "lookup fields",
-                std::mem::size_of::<[[f32; 4]; 6]>() as u64,
+                std::mem::size_of::<FieldWords>() as u64,
             ))?,
             fields,
         })
