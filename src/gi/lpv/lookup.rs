@@ -12,7 +12,7 @@ use super::bindings as ids;
 use super::cost;
 use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
-    Binding, Buffer, BufferDesc, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline, Recorder,
+    Binding, Buffer, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline, Recorder,
     Sampler, Specialization,
 };
 use crate::render::full_screen::{Blend, FullScreenShaders, full_screen_with};
@@ -112,15 +112,21 @@ pub struct Lookup {
     /// Trilinear, clamped to the edge: the images' border of zero cells makes the outside
     /// of the lattice transparent black (as if it were empty).
     sampler: Sampler,
-    /// The fields' constants, written before each draw (`field_words`).
+    /// The fields' constants (`field_words`), written once: a lattice's place, size and scale
+    /// stay as built.
     words: Buffer,
+    /// The same words on the CPU, to check that a draw is given the fields it was built for.
+    written: FieldWords,
     fields: usize,
 }
 
 impl Lookup {
-    pub fn new(gpu: &Gpu, scene: &Scene, fields: usize) -> GpuResult<Lookup> {
-        assert!(matches!(fields, 1 | 2), "the lookup reads one or two fields");
-        let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, fields as u32);
+    /// The lookup of `fields` (one or two) in `scene`.
+    pub fn new(gpu: &Gpu, scene: &Scene, fields: &[LookupField]) -> GpuResult<Lookup> {
+        assert!(matches!(fields.len(), 1 | 2), "the lookup reads one or two fields");
+        let written = field_words(fields);
+        let count = fields.len();
+        let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32);
         let lit = match DirectShape::of(scene, &scene.raster_lights()) {
             Some(shape) => {
                 let pipeline = full_screen_with(
@@ -153,25 +159,19 @@ impl Lookup {
             lit,
             sampler: gpu
                 .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
-            words: gpu.create_buffer(&BufferDesc::storage(
-                "lookup fields",
-                std::mem::size_of::<FieldWords>() as u64,
-            ))?,
-            fields,
+            words: gpu.upload_storage("lookup fields", bytemuck::bytes_of(&written))?,
+            written,
+            fields: count,
         })
     }
 
-    /// Write `fields`' constants for the next draw, and bind their lattices and constants.
-    fn field_bindings<'a>(
-        &'a self,
-        rec: &mut Recorder,
-        fields: &[LookupField<'a>],
-    ) -> Vec<Binding<'a>> {
+    /// The bindings of `fields`' lattices and of their constants.
+    fn field_bindings<'a>(&'a self, fields: &[LookupField<'a>]) -> Vec<Binding<'a>> {
         assert_eq!(fields.len(), self.fields, "the lookup was built for {} fields", self.fields);
-        rec.update_buffer(
-            "lookup fields",
-            &self.words,
-            bytemuck::bytes_of(&field_words(fields)),
+        debug_assert_eq!(
+            field_words(fields),
+            self.written,
+            "the lookup was built for other fields"
         );
         // A one-field lookup binds its lattice in the far slots too; the shader leaves them be.
         let [r, g, b] = fields[0].images;
@@ -197,7 +197,7 @@ impl Lookup {
     ) -> GpuResult<()> {
         let view = &ctx.views[view];
         let gb = &view.gbuffer;
-        let mut bindings = self.field_bindings(rec, fields);
+        let mut bindings = self.field_bindings(fields);
         bindings.extend([
             Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
             Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
@@ -228,7 +228,7 @@ impl Lookup {
             return Ok(false);
         };
         let mut bindings = direct.bindings.clone();
-        bindings.extend(self.field_bindings(rec, fields));
+        bindings.extend(self.field_bindings(fields));
         rec.raster(&RasterPass {
             name: LIT_LOOKUP,
             pipeline,

@@ -20,11 +20,11 @@ use crate::gi::shared::sh;
 use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod, PixelPass};
 use crate::scene::dynamic::Aabb;
 use crate::scene::{Light, Scene};
-use crate::render::passes::DirectDraw;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
     ImageDesc, Part, Recorder, Specialization,
 };
+use crate::render::passes::DirectDraw;
 use crate::shaders;
 
 /// Which propagation scheme.
@@ -604,7 +604,8 @@ impl Lpv {
     pub fn new(setup: &Setup, settings: LpvSettings) -> anyhow::Result<Lpv> {
         settings.validate()?;
         let mut lpv = Self::with_field(setup, settings, Field::Whole)?;
-        lpv.lookup = Some(Lookup::new(setup.gpu, setup.scene, 1)?);
+        let lookup = Lookup::new(setup.gpu, setup.scene, &[lpv.lookup_field()])?;
+        lpv.lookup = Some(lookup);
         Ok(lpv)
     }
 

@@ -56,11 +56,13 @@ impl TwoScale {
             channels: Some(near.plan),
             ..settings
         };
-        Ok(TwoScale {
-            near,
-            far: Lpv::with_field(setup, far, Field::Far)?,
-            lookup: Lookup::new(setup.gpu, setup.scene, 2)?,
-        })
+        let far = Lpv::with_field(setup, far, Field::Far)?;
+        let lookup = Lookup::new(
+            setup.gpu,
+            setup.scene,
+            &[near.lookup_field(), far.lookup_field()],
+        )?;
+        Ok(TwoScale { near, far, lookup })
     }
 }
 
