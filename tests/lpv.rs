@@ -2080,3 +2080,139 @@ fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
     }
     common::assert_no_validation_errors(&gpu);
 }
+
+/// `--lookup-resolution half` is the f64 upsample (`gi::lpv::upsample`) of the lookup at full
+/// resolution: the texels the mirror is given are the full-resolution lookup's light per unit
+/// albedo at pixels (2i, 2j), read back with the G-buffer, so pixels at even coordinates must
+/// match the full lookup itself and every pixel the mirror, both within the texels' half-float
+/// rounding. Inside direct lighting and apart it gives the same image. An odd-sized view
+/// checks the last column and row, whose texels the upsample repeats.
+#[test]
+fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
+    use vkgi::gi::lpv::upsample::{self, HalfTexel, PixelSurface};
+    use vkgi::gi::lpv::{Injection, LookupResolution};
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let (width, height) = (41u32, 31u32);
+    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
+        let run = |resolution: LookupResolution, lookup_apart: bool| {
+            let options = vkgi::render::FrameOptions {
+                width,
+                height,
+                indirect_only: true,
+                lookup_apart,
+                ..vkgi::render::FrameOptions::default()
+            };
+            let settings = LpvSettings {
+                scheme,
+                injection: Injection::Fixed,
+                rsm: 64,
+                lookup_resolution: resolution,
+                ..LpvSettings::default()
+            };
+            let mut frame = vkgi::render::Frame::new(&gpu, &scene, options).unwrap();
+            let mut method = two_scale::create(&Setup::new(&gpu, &scene), settings).unwrap();
+            let ring =
+                vkgi::render::runner::run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 3)
+                    .unwrap();
+            let passes: Vec<String> = ring
+                .profiler
+                .report()
+                .passes
+                .iter()
+                .map(|p| p.name.clone())
+                .collect();
+            let hdr = frame.read_hdr(&gpu).unwrap();
+            (frame, hdr, passes)
+        };
+        let (frame, full, _) = run(LookupResolution::Full, false);
+        let (_, half, half_passes) = run(LookupResolution::Half, false);
+        let (_, half_apart, apart_passes) = run(LookupResolution::Half, true);
+        let case = format!("{scheme:?}");
+        for pass in [
+            "lpv lookup at half resolution",
+            "direct lighting + lpv upsample",
+        ] {
+            assert!(
+                half_passes.iter().any(|p| p == pass),
+                "{case}: {half_passes:?}"
+            );
+        }
+        assert!(
+            apart_passes.iter().any(|p| p == "lpv upsample"),
+            "{case}: {apart_passes:?}"
+        );
+        let (worst, brightest) = common::worst_difference(&half, &half_apart);
+        assert!(
+            worst <= 1e-6 * brightest,
+            "{case}: inside and apart differ by {worst}"
+        );
+
+        let positions = frame.read_positions(&gpu).unwrap();
+        let normals = frame.read_normals(&gpu).unwrap();
+        let albedos = frame.read_albedos(&gpu).unwrap();
+        let eye = frame.view().eye.position.as_dvec3();
+        let pixel = |x: u32, y: u32| (y * width + x) as usize;
+        // A surface pixel's light per unit albedo, its surface and albedo.
+        let surface = |i: usize| -> Option<(DVec3, PixelSurface, DVec3)> {
+            let p = positions[i];
+            (p[3] != 0.0).then(|| {
+                let albedo = DVec3::from(albedos[i].map(f64::from));
+                let light = DVec3::from(full[i].map(f64::from)) / albedo;
+                let position = DVec3::new(p[0].into(), p[1].into(), p[2].into());
+                let normal = DVec3::from(normals[i].map(f64::from)).normalize();
+                (
+                    light,
+                    PixelSurface::seen_from(eye, position, normal),
+                    albedo,
+                )
+            })
+        };
+        let size = upsample::half_size(width, height);
+        let texels: Vec<HalfTexel> = (0..size.0 * size.1)
+            .map(
+                |k| match surface(pixel(2 * (k % size.0), 2 * (k / size.0))) {
+                    Some((light, seen, _)) => HalfTexel {
+                        light,
+                        distance: seen.distance,
+                        normal: seen.normal,
+                    },
+                    None => HalfTexel::BACKGROUND,
+                },
+            )
+            .collect();
+        let brightest = full.iter().flatten().fold(0.0f32, |m, &v| m.max(v)) as f64;
+        assert!(brightest > 0.0, "{case}: black");
+        // Half floats carry 11 bits: 2^-11 of the value, and the pixels' albedo rounding.
+        let tolerance = |expected: f64| 1e-3 * expected + 1e-5 * brightest;
+        let mut checked = 0;
+        for y in 0..height {
+            for x in 0..width {
+                let i = pixel(x, y);
+                let Some((_, seen, albedo)) = surface(i) else {
+                    assert_eq!(half[i], [0.0; 3], "{case}: background at ({x}, {y})");
+                    continue;
+                };
+                let expected = albedo * upsample::upsampled_light(&texels, size, (x, y), seen);
+                for c in 0..3 {
+                    let got = f64::from(half[i][c]);
+                    assert!(
+                        (got - expected[c]).abs() <= tolerance(expected[c]),
+                        "{case}: ({x}, {y}) channel {c}: GPU {got}, f64 {}",
+                        expected[c]
+                    );
+                    if x % 2 == 0 && y % 2 == 0 {
+                        let own = f64::from(full[i][c]);
+                        assert!((got - own).abs() <= tolerance(own), "{case}: ({x}, {y})");
+                    }
+                }
+                checked += 1;
+            }
+        }
+        assert!(
+            checked > (width * height / 2) as usize,
+            "{case}: {checked} surface pixels"
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}

@@ -189,9 +189,26 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
     let rows = report["rows"].as_array().unwrap();
     assert_eq!(
         rows.len(),
-        9,
-        "the ambient baseline, lpv and ilpv at 1 and 2 steps, lightwave, radiosity, irradiance-cache, radiance-volumes"
+        13,
+        "the ambient baseline, lpv and ilpv at 1 and 2 steps and at full and half lookup resolution, lightwave, radiosity, irradiance-cache, radiance-volumes"
     );
+    // Rows at half lookup resolution are scored against the same configuration at full.
+    let mut halves = 0;
+    for r in rows {
+        let settings = r["settings"].as_array().unwrap();
+        let half = settings
+            .iter()
+            .any(|s| s[0] == "lookup-resolution" && s[1] == "half");
+        let against_full = &r["vs_full_resolution"];
+        if half {
+            let rel_mse = against_full["rel_mse"].as_f64().unwrap();
+            assert!(rel_mse.is_finite() && rel_mse >= 0.0, "{r}");
+            halves += 1;
+        } else {
+            assert!(against_full.is_null(), "{r}");
+        }
+    }
+    assert_eq!(halves, 4);
     assert!(rows.iter().any(|r| r["method"] == "irradiance-cache"));
     assert!(rows.iter().any(|r| r["method"] == "radiance-volumes"));
     let mut methods_seen = Vec::new();
@@ -228,7 +245,7 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
                 .any(|m| l.starts_with(m))
         })
         .collect();
-    assert_eq!(table_rows.len(), 5);
+    assert_eq!(table_rows.len(), 9);
     for row in table_rows {
         let link = row
             .rsplit("](")

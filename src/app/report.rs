@@ -29,6 +29,11 @@ use super::profile::{core_pass_median, entries};
 /// The registered name of the baseline every method's error is read against.
 const BASELINE: &str = "ambient";
 
+/// The setting whose value `half` approximates the value `full` (LPV's and ILPV's
+/// `--lookup-resolution`): a row at `half` is also scored against the row of the same
+/// configuration at `full`.
+const RESOLUTION: (&str, &str, &str) = ("lookup-resolution", "half", "full");
+
 /// What the report covers.
 #[derive(Clone, Debug)]
 pub struct ReportConfig {
@@ -66,6 +71,9 @@ pub struct ReportRow {
     pub full: Metrics,
     /// Indirect relMSE over the ambient baseline's (below 1 beats it).
     pub rel_mse_vs_ambient: Option<f64>,
+    /// A row at `--lookup-resolution half`: its indirect image against the same configuration's
+    /// at full resolution (None for other rows, or where the grid has no such row).
+    pub vs_full_resolution: Option<Metrics>,
     /// Seed 002's similarity of the full image against the same method's first row (the
     /// LightWave thesis's tables compare every setting with its default, not with the truth).
     pub similarity_vs_first: f64,
@@ -316,6 +324,7 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
     let bar = super::progress::counting("report", "configurations");
     let mut rows = Vec::new();
     let mut first_images: Vec<(&str, HdrImage)> = Vec::new();
+    let mut resolution_images: Vec<(usize, HdrImage)> = Vec::new();
     for (i, (entry, swept, settings)) in plan.iter().enumerate() {
         let frames = config
             .frames
@@ -341,11 +350,16 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
             indirect: metrics::compare(&run.indirect, &truth.indirect, None)?,
             full: metrics::compare(&full, &truth_full, None)?,
             rel_mse_vs_ambient: None,
+            vs_full_resolution: None,
             similarity_vs_first: metrics::similarity(&full, first, None)?,
             image,
         });
+        if swept.iter().any(|(name, _)| name == RESOLUTION.0) {
+            resolution_images.push((rows.len() - 1, run.indirect));
+        }
         super::progress::update(&bar, i as u32 + 1, plan.len() as u32);
     }
+    score_against_full_resolution(&mut rows, &resolution_images)?;
     let baseline = rows
         .iter()
         .filter(|r| r.method == BASELINE)
@@ -382,6 +396,47 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
     Ok(report)
 }
 
+/// Score each row at `--lookup-resolution half` among `images` (row index, indirect image)
+/// against the row of the same method and other settings at full resolution.
+fn score_against_full_resolution(
+    rows: &mut [ReportRow],
+    images: &[(usize, HdrImage)],
+) -> anyhow::Result<()> {
+    let (setting, approximate, exact) = RESOLUTION;
+    // The row's settings with the resolution's value replaced by `value`.
+    let with = |row: &ReportRow, value: &str| -> Combination {
+        row.settings
+            .iter()
+            .map(|(n, v)| {
+                (
+                    n.clone(),
+                    if n == setting {
+                        value.to_string()
+                    } else {
+                        v.clone()
+                    },
+                )
+            })
+            .collect()
+    };
+    for (half, half_image) in images {
+        if !rows[*half]
+            .settings
+            .contains(&(setting.to_string(), approximate.to_string()))
+        {
+            continue;
+        }
+        let wanted = with(&rows[*half], exact);
+        let full = images
+            .iter()
+            .find(|(i, _)| rows[*i].method == rows[*half].method && rows[*i].settings == wanted);
+        if let Some((_, full_image)) = full {
+            rows[*half].vs_full_resolution = Some(metrics::compare(half_image, full_image, None)?);
+        }
+    }
+    Ok(())
+}
+
 fn markdown(report: &Report) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "# vkgi report: {}\n", report.scene);
@@ -402,7 +457,7 @@ fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         out,
-        "`{BASELINE}` is the baseline: albedo times one constant irradiance per channel, fitted by least squares to this reference's indirect light (an oracle). \"÷ {BASELINE}\" is a row's indirect relMSE over the baseline's: below 1 beats it.\n"
+        "`{BASELINE}` is the baseline: albedo times one constant irradiance per channel, fitted by least squares to this reference's indirect light (an oracle). \"÷ {BASELINE}\" is a row's indirect relMSE over the baseline's: below 1 beats it. \"Against full resolution\" scores a row at `--lookup-resolution half` against the same configuration at full resolution: the error the half-resolution lookup and its upsample add.\n"
     );
     let _ = writeln!(
         out,
@@ -410,11 +465,11 @@ fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         out,
-        "| method | settings | frames | ms/frame | core ns/unit | indirect RMSE | indirect relMSE | ÷ {BASELINE} | indirect FLIP | full RMSE | full relMSE | full FLIP | full % similar | % similar to first | image |"
+        "| method | settings | frames | ms/frame | core ns/unit | indirect RMSE | indirect relMSE | ÷ {BASELINE} | indirect relMSE against full resolution | indirect FLIP | full RMSE | full relMSE | full FLIP | full % similar | % similar to first | image |"
     );
     let _ = writeln!(
         out,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     );
     for r in &report.rows {
         let settings = if r.settings.is_empty() {
@@ -432,9 +487,13 @@ fn markdown(report: &Report) -> String {
         let ratio = r
             .rel_mse_vs_ambient
             .map_or("-".to_string(), |v| format!("{v:.3}"));
+        let against_full = r
+            .vs_full_resolution
+            .as_ref()
+            .map_or("-".to_string(), |m| format!("{:.2e}", m.rel_mse));
         let _ = writeln!(
             out,
-            "| {} | {settings} | {} | {:.2} | {core} | {:.5} | {:.5} | {ratio} | {:.4} | {:.5} | {:.5} | {:.4} | {:.3} | {:.3} | [png]({}) |",
+            "| {} | {settings} | {} | {:.2} | {core} | {:.5} | {:.5} | {ratio} | {against_full} | {:.4} | {:.5} | {:.5} | {:.4} | {:.3} | {:.3} | [png]({}) |",
             r.method,
             r.frames,
             r.ms_per_frame,

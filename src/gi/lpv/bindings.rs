@@ -65,6 +65,8 @@ crate::shared_constants! {
     // The fields' constants (lpv/lookup_fields.glsl), and their flat varyings.
     LOOKUP_FIELDS: u32 = 22;
     LOOKUP_FIELD_WORDS: u32 = 6;
+    // --lookup-resolution half: the quarter-size image of the lattices' light (lpv/upsample.glsl).
+    LOOKUP_HALF_LIGHT: u32 = 23;
     // The specialisation constant of the number of fields, clear of direct lighting's.
     LOOKUP_FIELDS_CONSTANT: u32 = 8;
 }

@@ -32,6 +32,16 @@
 //! the texture unit's work where one filters in hardware; the arithmetic is still what the
 //! result needs, and on lavapipe the CPU does it. The copy of each result lattice into the 3-D
 //! image the lookup samples, 32 B per cell and channel a frame, is its own pass in the profile.)
+//!
+//! At half resolution, per texel of the quarter-size image (a quarter of the pixels): the
+//! G-buffer's position and normal read (24 B) and the texel written (16 B), 40 B; the lookup's
+//! arithmetic but albedo (3), plus the distance to the eye 8 and the packing 20 (octahedral
+//! normal 12, the half floats and the snorms 8). The upsample, per pixel: the G-buffer (32 B),
+//! the HDR pixel read and written (32 B), and a quarter of a texel (4 B: each texel serves four
+//! pixels from the cache), 68 B; the normal 9, the distance 8, per texel of four the unpacking
+//! 17 (octahedral normal 12, the rest 5), bilinear weight 3, distance tent 5, the normals'
+//! cosine and its eighth power 8, the product 3, the sums 4 and the most alike texel 3 (43),
+//! the division 4 and albedo 3: 196.
 
 use super::technique::Scheme;
 
@@ -83,6 +93,18 @@ pub fn lookup_flops_per_pixel(lattices: u32) -> f64 {
     NORMALISE_FLOPS + 3.0 + 263.0 * f64::from(lattices)
 }
 
+/// Bytes the half-resolution lookup moves per texel at the ideal.
+pub const HALF_LOOKUP_BYTES_PER_TEXEL: f64 = 40.0;
+
+/// Flops of the half-resolution lookup of `lattices` lattices per texel.
+pub fn half_lookup_flops_per_texel(lattices: u32) -> f64 {
+    lookup_flops_per_pixel(lattices) - 3.0 + 8.0 + 20.0
+}
+
+/// Bytes and flops of the half-resolution lookup's upsample per pixel at the ideal.
+pub const UPSAMPLE_BYTES_PER_PIXEL: f64 = 68.0;
+pub const UPSAMPLE_FLOPS_PER_PIXEL: f64 = 9.0 + 8.0 + 4.0 * 43.0 + 4.0 + 3.0;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -104,5 +126,7 @@ mod tests {
         assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3, 3), 48.0);
         assert_eq!(lookup_flops_per_pixel(1), 275.0);
         assert_eq!(lookup_flops_per_pixel(2), 538.0);
+        assert_eq!(half_lookup_flops_per_texel(1), 300.0);
+        assert_eq!(UPSAMPLE_FLOPS_PER_PIXEL, 196.0);
     }
 }

@@ -4,6 +4,12 @@
 //! (`lpv/lit_lookup.{vert,frag}`): the G-buffer read once for both and the HDR image written
 //! once; else, or when the frame asks (`FrameOptions::lookup_apart`), as a pass of its own
 //! after it (`lpv/lookup.{vert,frag}`).
+//!
+//! At `--lookup-resolution half` the lattices are looked up at every second pixel in x and y
+//! (`lpv/lookup_half.frag`, into a quarter-size image per view) and spread over the pixels by a
+//! depth- and normal-aware upsample (`lpv/upsample.glsl`, mirrored in f64 by
+//! [`super::upsample`]), drawn inside direct lighting or apart as above; `vkgi report` scores
+//! its error against full resolution.
 
 use ash::vk;
 use glam::Vec3;
@@ -12,12 +18,12 @@ use super::bindings as ids;
 use super::cost;
 use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
-    Binding, Buffer, Draw, Gpu, GpuResult, Image, RasterPass, RasterPipeline, Recorder,
-    Sampler, Specialization,
+    Binding, Buffer, Draw, Gpu, GpuError, GpuResult, Image, ImageDesc, PushConstants, RasterPass, RasterPipeline,
+    Recorder, Sampler, Specialization,
 };
-use crate::render::full_screen::{Blend, FullScreenShaders, full_screen_with};
+use crate::render::full_screen::{Blend, FullScreenShaders, full_screen, full_screen_with};
 use crate::render::passes::{DirectDraw, DirectShape};
-use crate::render::targets::HDR_FORMAT;
+use crate::render::targets::{HDR_FORMAT, View};
 use crate::scene::Scene;
 use crate::shaders;
 
@@ -25,27 +31,84 @@ use crate::shaders;
 const LOOKUP: &str = "lpv lookup";
 /// The name of direct lighting with the lookup in the profile.
 const LIT_LOOKUP: &str = "direct lighting + lpv lookup";
+/// `--lookup-resolution half`: the lookup into the quarter-size image, the upsample apart and
+/// the upsample inside direct lighting.
+const HALF_LOOKUP: &str = "lpv lookup at half resolution";
+const UPSAMPLE: &str = "lpv upsample";
+const LIT_UPSAMPLE: &str = "direct lighting + lpv upsample";
 
-/// The lookup of `lattices` lattices as per-pixel passes of the profile: apart, and inside
-/// direct lighting (where its bound adds to direct lighting's what the lookup adds to it: no
-/// bytes, since the G-buffer is read and the HDR pixel written for direct lighting anyway, and
-/// the lookup's arithmetic but the normal's normalisation).
-pub fn lookup_passes(lattices: u32) -> [PixelPass; 2] {
-    let flops = cost::lookup_flops_per_pixel(lattices);
-    [
+/// The quarter-size image of `--lookup-resolution half` (lpv/half_light.glsl's texels).
+const HALF_LIGHT_FORMAT: vk::Format = vk::Format::R32G32B32A32_UINT;
+
+/// Where the lookup evaluates the lattices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum LookupResolution {
+    /// At every pixel.
+    Full,
+    /// At every second pixel in x and y, spread over the pixels by a depth- and normal-aware
+    /// upsample.
+    Half,
+}
+
+/// The lookup of `lattices` lattices at `resolution` as per-pixel passes of the profile. Full:
+/// apart, and inside direct lighting (where its bound adds to direct lighting's what the lookup
+/// adds to it: no bytes, since the G-buffer is read and the HDR pixel written for direct
+/// lighting anyway, and the lookup's arithmetic but the normal's normalisation). Half: the
+/// lookup at a quarter of the pixels, then the upsample apart or inside direct lighting.
+pub fn lookup_passes(lattices: u32, resolution: LookupResolution) -> Vec<PixelPass> {
+    let (apart, lit, bytes, flops) = match resolution {
+        LookupResolution::Full => (
+            LOOKUP,
+            LIT_LOOKUP,
+            cost::LOOKUP_BYTES_PER_PIXEL,
+            cost::lookup_flops_per_pixel(lattices),
+        ),
+        LookupResolution::Half => (
+            UPSAMPLE,
+            LIT_UPSAMPLE,
+            cost::UPSAMPLE_BYTES_PER_PIXEL,
+            cost::UPSAMPLE_FLOPS_PER_PIXEL,
+        ),
+    };
+    let mut passes = vec![
         PixelPass {
-            pass: LOOKUP,
-            bytes_per_pixel: cost::LOOKUP_BYTES_PER_PIXEL,
+            pass: apart,
+            bytes_per_pixel: bytes,
             flops_per_pixel: flops,
             with_direct_lighting: false,
         },
         PixelPass {
-            pass: LIT_LOOKUP,
+            pass: lit,
             bytes_per_pixel: 0.0,
             flops_per_pixel: flops - cost::NORMALISE_FLOPS,
             with_direct_lighting: true,
         },
-    ]
+    ];
+    if resolution == LookupResolution::Half {
+        passes.push(PixelPass {
+            pass: HALF_LOOKUP,
+            bytes_per_pixel: cost::HALF_LOOKUP_BYTES_PER_TEXEL / 4.0,
+            flops_per_pixel: cost::half_lookup_flops_per_texel(lattices) / 4.0,
+            with_direct_lighting: false,
+        });
+    }
+    passes
+}
+
+crate::push_constants! {
+    /// The eye of the view, for `--lookup-resolution half`'s passes (lpv/lookup_half.frag,
+    /// lpv/upsample.frag).
+    struct EyePush {
+        eye: [f32; 4],
+    }
+}
+
+impl EyePush {
+    fn of(view: &View) -> EyePush {
+        EyePush {
+            eye: view.eye.position.extend(1.0).to_array(),
+        }
+    }
 }
 
 /// Cells of zero around the lattice in the lookup's 3-D images: the lookup samples them
@@ -101,14 +164,24 @@ fn field_words(fields: &[LookupField]) -> FieldWords {
     ]
 }
 
+/// `--lookup-resolution half`'s lookup into a quarter-size image per view.
+struct HalfLookup {
+    pipeline: RasterPipeline,
+    /// Per view (by index), its image of the lattices' light (lpv/half_light.glsl).
+    images: Vec<Image>,
+}
+
 /// The lookup's pipelines for a number of fields (1 or 2), its trilinear sampler and the buffer
 /// of the fields' constants.
 pub struct Lookup {
-    /// The lookup as a pass of its own.
+    /// The lookup as a pass of its own (at half resolution, the upsample's).
     apart: RasterPipeline,
-    /// Direct lighting with the lookup, for direct lighting of this shape (None: direct
-    /// lighting is a compute pass for the scene the lookup was built for).
+    /// Direct lighting with the lookup (at half resolution, with the upsample), for direct
+    /// lighting of this shape (None: direct lighting is a compute pass for the scene the lookup
+    /// was built for).
     lit: Option<(DirectShape, RasterPipeline)>,
+    /// At half resolution, the lookup the upsample reads.
+    half: Option<HalfLookup>,
     /// Trilinear, clamped to the edge: the images' border of zero cells makes the outside
     /// of the lattice transparent black (as if it were empty).
     sampler: Sampler,
@@ -121,48 +194,141 @@ pub struct Lookup {
 }
 
 impl Lookup {
-    /// The lookup of `fields` (one or two) in `scene`.
-    pub fn new(gpu: &Gpu, scene: &Scene, fields: &[LookupField]) -> GpuResult<Lookup> {
+    /// The lookup of `fields` (one or two) in `scene`, at `resolution`.
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        fields: &[LookupField],
+        resolution: LookupResolution,
+    ) -> GpuResult<Lookup> {
         assert!(matches!(fields.len(), 1 | 2), "the lookup reads one or two fields");
         let written = field_words(fields);
         let count = fields.len();
         let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32);
-        let lit = match DirectShape::of(scene, &scene.raster_lights()) {
-            Some(shape) => {
-                let pipeline = full_screen_with(
-                    gpu,
-                    LIT_LOOKUP,
-                    FullScreenShaders {
-                        vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
-                        fragment: shaders::GI_LPV_LIT_LOOKUP_FRAG,
-                    },
-                    HDR_FORMAT,
-                    Blend::Replace,
-                    &own(shape.specialization().clone()),
-                )?;
-                Some((shape, pipeline))
-            }
-            None => None,
-        };
-        Ok(Lookup {
-            apart: full_screen_with(
-                gpu,
-                LOOKUP,
-                FullScreenShaders {
+        let shape = DirectShape::of(scene, &scene.raster_lights());
+        let (apart, lit, half) = match resolution {
+            LookupResolution::Full => {
+                let lit = match shape {
+                    Some(shape) => {
+                        let shaders = FullScreenShaders {
+                            vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
+                            fragment: shaders::GI_LPV_LIT_LOOKUP_FRAG,
+                        };
+                        let spec = own(shape.specialization().clone());
+                        let pipeline = full_screen_with(
+                            gpu,
+                            LIT_LOOKUP,
+                            shaders,
+                            HDR_FORMAT,
+                            Blend::Replace,
+                            &spec,
+                        )?;
+                        Some((shape, pipeline))
+                    }
+                    None => None,
+                };
+                let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
                     fragment: shaders::GI_LPV_LOOKUP_FRAG,
-                },
-                HDR_FORMAT,
-                Blend::Add,
-                &own(Specialization::new()),
-            )?,
+                };
+                let spec = own(Specialization::new());
+                let apart = full_screen_with(gpu, LOOKUP, shaders, HDR_FORMAT, Blend::Add, &spec)?;
+                (apart, lit, None)
+            }
+            LookupResolution::Half => {
+                let lit = match shape {
+                    Some(shape) => {
+                        let shaders = FullScreenShaders {
+                            vertex: shaders::RASTER_LIGHTING_VERT,
+                            fragment: shaders::GI_LPV_LIT_UPSAMPLE_FRAG,
+                        };
+                        let spec = shape.specialization().clone();
+                        let pipeline = full_screen_with(
+                            gpu,
+                            LIT_UPSAMPLE,
+                            shaders,
+                            HDR_FORMAT,
+                            Blend::Replace,
+                            &spec,
+                        )?;
+                        Some((shape, pipeline))
+                    }
+                    None => None,
+                };
+                let apart = full_screen(
+                    gpu,
+                    UPSAMPLE,
+                    shaders::GI_LPV_UPSAMPLE_FRAG,
+                    HDR_FORMAT,
+                    Blend::Add,
+                    &Specialization::new(),
+                )?;
+                let shaders = FullScreenShaders {
+                    vertex: shaders::GI_LPV_LOOKUP_VERT,
+                    fragment: shaders::GI_LPV_LOOKUP_HALF_FRAG,
+                };
+                let spec = own(Specialization::new());
+                let pipeline = full_screen_with(
+                    gpu,
+                    HALF_LOOKUP,
+                    shaders,
+                    HALF_LIGHT_FORMAT,
+                    Blend::Replace,
+                    &spec,
+                )?;
+                let half = HalfLookup {
+                    pipeline,
+                    images: Vec::new(),
+                };
+                (apart, lit, Some(half))
+            }
+        };
+        Ok(Lookup {
+            apart,
             lit,
+            half,
             sampler: gpu
                 .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
             words: gpu.upload_storage("lookup fields", bytemuck::bytes_of(&written))?,
             written,
             fields: count,
         })
+    }
+
+    /// A line for the profile: where the lookup evaluates the lattices.
+    pub fn describe(&self) -> String {
+        match self.half {
+            None => "lookup: at every pixel".to_string(),
+            Some(_) => "lookup: at half resolution (every second pixel in x and y), spread over the pixels by a depth- and normal-aware upsample".to_string(),
+        }
+    }
+
+    /// Fit the lookup's per-view state to view `index` (`view`): at half resolution, its
+    /// quarter-size image, made anew when the view's size changed. Call before the view's
+    /// lookup in every frame.
+    pub fn fit_view(&mut self, gpu: &Gpu, view: &View, index: usize) -> GpuResult<()> {
+        let Some(half) = self.half.as_mut() else {
+            return Ok(());
+        };
+        let (width, height) = (view.width().div_ceil(2), view.height().div_ceil(2));
+        if let Some(image) = half.images.get(index)
+            && (image.width(), image.height()) == (width, height)
+        {
+            return Ok(());
+        }
+        let image = gpu.create_image(&ImageDesc::new_2d(
+            "lpv half-resolution light",
+            HALF_LIGHT_FORMAT,
+            width,
+            height,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
+        ))?;
+        if index < half.images.len() {
+            half.images[index] = image;
+        } else {
+            half.images.push(image);
+        }
+        Ok(())
     }
 
     /// The bindings of `fields`' lattices and of their constants.
@@ -187,6 +353,40 @@ impl Lookup {
         ]
     }
 
+    /// At half resolution, record the lookup of `fields` into view `index`'s quarter-size
+    /// image and return it (None at full resolution).
+    fn record_half<'a>(
+        &'a self,
+        rec: &mut Recorder,
+        view: &View,
+        index: usize,
+        fields: &[LookupField<'a>],
+    ) -> GpuResult<Option<&'a Image>> {
+        let Some(half) = &self.half else {
+            return Ok(None);
+        };
+        let image = half.images.get(index).ok_or_else(|| {
+            GpuError::Setup(format!("the lookup was not fitted to view {index}"))
+        })?;
+        let gb = &view.gbuffer;
+        let mut bindings = self.field_bindings(fields);
+        bindings.extend([
+            Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
+            Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
+        ]);
+        rec.raster(&RasterPass {
+            name: HALF_LOOKUP,
+            pipeline: &half.pipeline,
+            bindings: &bindings,
+            push: &EyePush::of(view),
+            color: &[(image, 0, [0.0; 4])],
+            depth: None,
+            draw: Draw::Vertices(3),
+            keep_contents: false,
+        })?;
+        Ok(Some(image))
+    }
+
     /// Add `fields`' indirect light to view `view`'s HDR image, after its direct lighting.
     pub fn record(
         &self,
@@ -195,19 +395,30 @@ impl Lookup {
         view: usize,
         fields: &[LookupField],
     ) -> GpuResult<()> {
-        let view = &ctx.views[view];
+        let index = view;
+        let view = &ctx.views[index];
         let gb = &view.gbuffer;
-        let mut bindings = self.field_bindings(fields);
-        bindings.extend([
+        let mut bindings = vec![
             Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
             Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
             Binding::image_read(ids::LOOKUP_GBUFFER_ALBEDO, &gb.albedo),
-        ]);
+        ];
+        let eye = EyePush::of(view);
+        let (name, push): (_, &dyn PushConstants) = match self.record_half(rec, view, index, fields)? {
+            Some(light) => {
+                bindings.push(Binding::image_read(ids::LOOKUP_HALF_LIGHT, light));
+                (UPSAMPLE, &eye)
+            }
+            None => {
+                bindings.extend(self.field_bindings(fields));
+                (LOOKUP, &())
+            }
+        };
         rec.raster(&RasterPass {
-            name: LOOKUP,
+            name,
             pipeline: &self.apart,
             bindings: &bindings,
-            push: &(),
+            push,
             color: &[(&view.hdr, 0, [0.0; 4])],
             depth: None,
             draw: Draw::Vertices(3),
@@ -215,11 +426,12 @@ impl Lookup {
         })
     }
 
-    /// Draw `direct` with `fields`' indirect light added, if this lookup was built for
-    /// direct lighting of its shape (false: nothing recorded).
+    /// Draw `direct` (view `view`'s direct lighting) with `fields`' indirect light added, if
+    /// this lookup was built for direct lighting of its shape (false: nothing recorded).
     pub fn record_lit(
         &self,
         rec: &mut Recorder,
+        (ctx, view): (&FrameContext, usize),
         direct: &DirectDraw,
         fields: &[LookupField],
     ) -> GpuResult<bool> {
@@ -228,9 +440,18 @@ impl Lookup {
             return Ok(false);
         };
         let mut bindings = direct.bindings.clone();
-        bindings.extend(self.field_bindings(fields));
+        let name = match self.record_half(rec, &ctx.views[view], view, fields)? {
+            Some(light) => {
+                bindings.push(Binding::image_read(ids::LOOKUP_HALF_LIGHT, light));
+                LIT_UPSAMPLE
+            }
+            None => {
+                bindings.extend(self.field_bindings(fields));
+                LIT_LOOKUP
+            }
+        };
         rec.raster(&RasterPass {
-            name: LIT_LOOKUP,
+            name,
             pipeline,
             bindings: &bindings,
             push: direct.push(),

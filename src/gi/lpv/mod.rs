@@ -15,8 +15,10 @@ pub mod projected;
 pub mod technique;
 pub mod transfer;
 pub mod two_scale;
+pub mod upsample;
 pub mod visibility;
 pub mod void_side;
 
 pub use entry::METHODS;
+pub use lookup::LookupResolution;
 pub use technique::{Extinction, InjectToward, Injection, Kernel, Lpv, LpvSettings, Scheme};

@@ -11,7 +11,7 @@ use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
-use super::lookup::{LOOKUP_BORDER, Lookup, LookupField, lookup_passes};
+use super::lookup::{LOOKUP_BORDER, Lookup, LookupField, LookupResolution, lookup_passes};
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
 use crate::gi::registry::Setup;
@@ -137,6 +137,8 @@ pub struct LpvSettings {
     pub injection: Injection,
     /// The lookup reads this many cells along the surface normal (the thesis: 0.5).
     pub lookup_offset: f32,
+    /// Where the lookup evaluates the lattices: every pixel, or every fourth with an upsample.
+    pub lookup_resolution: LookupResolution,
     /// ILPV in two scales: the coarse far-field lattice (see [`super::two_scale`]).
     pub far_lattice: FarLattice,
     /// Two scales: steps per frame of the fine near-field lattice (at λ_incr 0).
@@ -236,6 +238,7 @@ impl Default for LpvSettings {
             inject_toward: InjectToward::Normal,
             injection: Injection::Float,
             lookup_offset: DEFAULT_LOOKUP_OFFSET,
+            lookup_resolution: LookupResolution::Full,
             far_lattice: FarLattice::Auto,
             near_steps: DEFAULT_NEAR_STEPS,
             far_injection: DEFAULT_FAR_INJECTION,
@@ -604,7 +607,8 @@ impl Lpv {
     pub fn new(setup: &Setup, settings: LpvSettings) -> anyhow::Result<Lpv> {
         settings.validate()?;
         let mut lpv = Self::with_field(setup, settings, Field::Whole)?;
-        let lookup = Lookup::new(setup.gpu, setup.scene, &[lpv.lookup_field()])?;
+        let resolution = lpv.settings.lookup_resolution;
+        let lookup = Lookup::new(setup.gpu, setup.scene, &[lpv.lookup_field()], resolution)?;
         lpv.lookup = Some(lookup);
         Ok(lpv)
     }
@@ -1573,6 +1577,13 @@ impl GiMethod for Lpv {
         self.digest(gpu, crate::digest::FNV_OFFSET).map(Some)
     }
 
+    fn record_view(&mut self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
+        match self.lookup.as_mut() {
+            Some(lookup) => lookup.fit_view(rec.gpu(), &ctx.views[view], view),
+            None => Ok(()),
+        }
+    }
+
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
         let views = self.begin_frame(rec, ctx);
         let Some(rsm) = &self.rsm else {
@@ -1618,12 +1629,12 @@ impl GiMethod for Lpv {
     fn record_lit_lookup(
         &self,
         rec: &mut Recorder,
-        _ctx: &FrameContext,
-        _view: usize,
+        ctx: &FrameContext,
+        view: usize,
         direct: &DirectDraw,
     ) -> GpuResult<bool> {
         self.own_lookup()?
-            .record_lit(rec, direct, &[self.lookup_field()])
+            .record_lit(rec, (ctx, view), direct, &[self.lookup_field()])
     }
 
     fn geometry_moved(
@@ -1675,7 +1686,7 @@ impl GiMethod for Lpv {
         })
     }
     fn pixel_passes(&self) -> Vec<PixelPass> {
-        lookup_passes(1).to_vec()
+        lookup_passes(1, self.settings.lookup_resolution)
     }
 
     fn describe(&self) -> Vec<String> {
@@ -1713,6 +1724,9 @@ impl GiMethod for Lpv {
         ];
         if let Some(choice) = &self.autotune {
             lines.push(choice.describe());
+        }
+        if let Some(lookup) = &self.lookup {
+            lines.push(lookup.describe());
         }
         lines
     }

@@ -61,6 +61,7 @@ impl TwoScale {
             setup.gpu,
             setup.scene,
             &[near.lookup_field(), far.lookup_field()],
+            near.settings.lookup_resolution,
         )?;
         Ok(TwoScale { near, far, lookup })
     }
@@ -74,6 +75,10 @@ impl GiMethod for TwoScale {
     fn state_digest(&self, gpu: &Gpu) -> GpuResult<Option<u64>> {
         let near = self.near.digest(gpu, crate::digest::FNV_OFFSET)?;
         self.far.digest(gpu, near).map(Some)
+    }
+
+    fn record_view(&mut self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
+        self.lookup.fit_view(rec.gpu(), &ctx.views[view], view)
     }
 
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {
@@ -115,12 +120,12 @@ impl GiMethod for TwoScale {
     fn record_lit_lookup(
         &self,
         rec: &mut Recorder,
-        _ctx: &FrameContext,
-        _view: usize,
+        ctx: &FrameContext,
+        view: usize,
         direct: &DirectDraw,
     ) -> GpuResult<bool> {
         let fields = [self.near.lookup_field(), self.far.lookup_field()];
-        self.lookup.record_lit(rec, direct, &fields)
+        self.lookup.record_lit(rec, (ctx, view), direct, &fields)
     }
 
     fn geometry_moved(
@@ -159,7 +164,7 @@ impl GiMethod for TwoScale {
 
     /// Both lattices' lookup, in one pass.
     fn pixel_passes(&self) -> Vec<PixelPass> {
-        lookup_passes(2).to_vec()
+        lookup_passes(2, self.near.settings.lookup_resolution)
     }
 
     fn describe(&self) -> Vec<String> {
@@ -168,6 +173,7 @@ impl GiMethod for TwoScale {
         };
         let mut lines = field("near field", self.near.describe());
         lines.extend(field("far field (its steps, and --far-injection of its injection)", self.far.describe()));
+        lines.push(self.lookup.describe());
         lines
     }
 }
