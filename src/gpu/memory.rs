@@ -135,6 +135,10 @@ pub struct ImageDesc<'a> {
     /// View the layers as an array (2D_ARRAY), even when there is only one.
     pub array: bool,
     pub usage: vk::ImageUsageFlags,
+    /// Render into the image (a single-layer colour attachment) through a view of this other
+    /// format, e.g. the sRGB view of an 8-bit UNORM image, whose writes the attachment then
+    /// encodes; every other use sees `format`. None: render through the image's own view.
+    pub render_format: Option<vk::Format>,
 }
 
 impl<'a> ImageDesc<'a> {
@@ -170,6 +174,7 @@ impl<'a> ImageDesc<'a> {
             layers: 1,
             array: false,
             usage,
+            render_format: None,
         }
     }
 }
@@ -181,6 +186,8 @@ pub struct Image {
     pub view: vk::ImageView,
     /// One 2D view per layer, for rendering into a single layer.
     pub layer_views: Vec<vk::ImageView>,
+    /// The view a colour attachment renders through, in `ImageDesc::render_format` (None: `view`).
+    pub render_view: Option<vk::ImageView>,
     allocation: Option<Allocation>,
     pub format: vk::Format,
     pub extent: vk::Extent3D,
@@ -212,7 +219,7 @@ impl Drop for Image {
     fn drop(&mut self) {
         // SAFETY: the owner guarantees the GPU no longer uses the image or its views.
         unsafe {
-            for &v in &self.layer_views {
+            for &v in self.layer_views.iter().chain(&self.render_view) {
                 self.shared.device.destroy_image_view(v, None);
             }
             self.shared.device.destroy_image_view(self.view, None);
@@ -335,6 +342,11 @@ impl Gpu {
     pub fn create_image(&self, desc: &ImageDesc) -> GpuResult<Image> {
         let device = &self.shared.device;
         let families = self.queues.families();
+        let view_formats: Vec<vk::Format> = match desc.render_format {
+            Some(render) => vec![desc.format, render],
+            None => Vec::new(),
+        };
+        let mut format_list = vk::ImageFormatListCreateInfo::default().view_formats(&view_formats);
         let mut info = vk::ImageCreateInfo::default()
             .image_type(desc.kind)
             .format(desc.format)
@@ -345,6 +357,15 @@ impl Gpu {
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .initial_layout(vk::ImageLayout::UNDEFINED);
+        if desc.render_format.is_some() {
+            assert!(
+                desc.layers == 1 && !desc.array,
+                "a render format is for single-layer images"
+            );
+            info = info
+                .flags(vk::ImageCreateFlags::MUTABLE_FORMAT)
+                .push_next(&mut format_list);
+        }
         info = if families.len() > 1 {
             info.sharing_mode(vk::SharingMode::CONCURRENT)
                 .queue_family_indices(&families)
@@ -380,11 +401,15 @@ impl Gpu {
             (_, false) => vk::ImageViewType::TYPE_2D,
             (_, true) => vk::ImageViewType::TYPE_2D_ARRAY,
         };
-        let make_view = |view_type, base_layer, layer_count| {
-            let info = vk::ImageViewCreateInfo::default()
+        let make_view = |view_type, base_layer, layer_count, format| {
+            // A render view is for rendering only: its format need not support the image's
+            // other uses (an sRGB format cannot be a storage image).
+            let mut render_usage = vk::ImageViewUsageCreateInfo::default()
+                .usage(vk::ImageUsageFlags::COLOR_ATTACHMENT);
+            let mut info = vk::ImageViewCreateInfo::default()
                 .image(raw)
                 .view_type(view_type)
-                .format(desc.format)
+                .format(format)
                 .subresource_range(vk::ImageSubresourceRange {
                     aspect_mask: aspect,
                     base_mip_level: 0,
@@ -392,6 +417,9 @@ impl Gpu {
                     base_array_layer: base_layer,
                     layer_count,
                 });
+            if format != desc.format {
+                info = info.push_next(&mut render_usage);
+            }
             // SAFETY: the image is bound to memory and the range lies inside it.
             unsafe { device.create_image_view(&info, None) }
                 .map_err(vk_err(&format!("creating a view of image '{}'", desc.name)))
@@ -401,6 +429,7 @@ impl Gpu {
             raw,
             view: vk::ImageView::null(),
             layer_views: Vec::new(),
+            render_view: None,
             allocation: Some(allocation),
             format: desc.format,
             extent: desc.extent,
@@ -410,12 +439,15 @@ impl Gpu {
             sync: Cell::new(SyncState::default()),
         };
         // From here on, Image::drop cleans up whatever views were made.
-        image.view = make_view(view_type, 0, desc.layers)?;
+        image.view = make_view(view_type, 0, desc.layers, desc.format)?;
         if array {
             for layer in 0..desc.layers {
-                let view = make_view(vk::ImageViewType::TYPE_2D, layer, 1)?;
+                let view = make_view(vk::ImageViewType::TYPE_2D, layer, 1, desc.format)?;
                 image.layer_views.push(view);
             }
+        }
+        if let Some(render) = desc.render_format {
+            image.render_view = Some(make_view(view_type, 0, 1, render)?);
         }
         Ok(image)
     }

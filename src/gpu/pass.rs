@@ -305,13 +305,16 @@ pub struct RasterPass<'p> {
     pub keep_contents: bool,
 }
 
-/// The view of one layer of `image` (the whole image if it has no per-layer views).
+/// The view of one layer of `image` an attachment renders through (its render view if it has
+/// one, else the layer's, else the whole image's).
 fn layer_view(image: &Image, layer: u32) -> vk::ImageView {
-    image
-        .layer_views
-        .get(layer as usize)
-        .copied()
-        .unwrap_or(image.view)
+    image.render_view.unwrap_or_else(|| {
+        image
+            .layer_views
+            .get(layer as usize)
+            .copied()
+            .unwrap_or(image.view)
+    })
 }
 
 enum Resource<'r> {

@@ -5,7 +5,7 @@ use ash::vk;
 use glam::Vec3;
 
 use super::full_screen::{Blend, full_screen};
-use super::targets::{GBUFFER_FORMATS, HDR_FORMAT, View};
+use super::targets::{GBUFFER_FORMATS, HDR_FORMAT, LDR_RENDER_FORMAT, View};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, PushConstants, RasterPass,
     RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
@@ -239,7 +239,7 @@ impl ScenePasses {
                 gpu,
                 TONE_MAP,
                 shaders::RASTER_TONEMAP_FRAG,
-                vk::Format::R8G8B8A8_UNORM,
+                LDR_RENDER_FORMAT,
                 Blend::Replace,
                 &none,
             )?,

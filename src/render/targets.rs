@@ -24,6 +24,13 @@ pub const GBUFFER_FORMATS: [vk::Format; 5] = [
 /// Format of a view's linear HDR image.
 pub const HDR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
+/// Format of a view's tone-mapped 8-bit image: sRGB-encoded bytes, read, copied and stored as
+/// they are.
+pub const LDR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
+/// The format tone mapping renders the 8-bit image through: the attachment encodes sRGB (on
+/// lavapipe 40% less time than the shader's `pow`, docs/performance.md).
+pub const LDR_RENDER_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
+
 /// The attachments the G-buffer pass writes and lighting passes read.
 pub struct GBuffer {
     /// xyz world position, w = 1 where a surface was hit, 0 for background.
@@ -97,7 +104,7 @@ impl View {
             Ok(())
         })?;
         // Render targets too: the LPV lookup adds to the HDR image by blending, tone mapping
-        // renders the 8-bit one (src/render/full_screen.rs).
+        // renders the 8-bit one through its sRGB view (src/render/full_screen.rs).
         let storage = vk::ImageUsageFlags::STORAGE | vk::ImageUsageFlags::TRANSFER_SRC;
         Ok(View {
             eye,
@@ -107,11 +114,16 @@ impl View {
                 HDR_FORMAT,
                 storage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
             )?,
-            ldr: image(
-                "ldr output",
-                vk::Format::R8G8B8A8_UNORM,
-                storage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
-            )?,
+            ldr: gpu.create_image(&ImageDesc {
+                render_format: Some(LDR_RENDER_FORMAT),
+                ..ImageDesc::new_2d(
+                    "ldr output",
+                    LDR_FORMAT,
+                    width,
+                    height,
+                    storage | vk::ImageUsageFlags::COLOR_ATTACHMENT,
+                )
+            })?,
         })
     }
 
