@@ -2085,16 +2085,20 @@ fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
 /// resolution: the texels the mirror is given are the full-resolution lookup's light per unit
 /// albedo at pixels (2i, 2j), read back with the G-buffer, so pixels at even coordinates must
 /// match the full lookup itself and every pixel the mirror, both within the texels' half-float
-/// rounding. Inside direct lighting and apart it gives the same image. An odd-sized view
-/// checks the last column and row, whose texels the upsample repeats.
+/// rounding. Inside direct lighting and apart it gives the same image. An even-sized view
+/// checks its last column and row, which lie past the last texels and take those again; an
+/// odd-sized one, whose last column and row hold texels of their own.
 #[test]
 fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
     use vkgi::gi::lpv::upsample::{self, HalfTexel, PixelSurface};
     use vkgi::gi::lpv::{Injection, LookupResolution};
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
-    let (width, height) = (41u32, 31u32);
-    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
+    for (scheme, (width, height)) in [
+        (Scheme::Ilpv, (40u32, 30u32)),
+        (Scheme::Lpv, (40, 30)),
+        (Scheme::Ilpv, (41, 31)),
+    ] {
         let run = |resolution: LookupResolution, lookup_apart: bool| {
             let options = vkgi::render::FrameOptions {
                 width,
@@ -2128,9 +2132,9 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
         let (frame, full, _) = run(LookupResolution::Full, false);
         let (_, half, half_passes) = run(LookupResolution::Half, false);
         let (_, half_apart, apart_passes) = run(LookupResolution::Half, true);
-        let case = format!("{scheme:?}");
+        let case = format!("{scheme:?} {width}x{height}");
         for pass in [
-            "lpv lookup at half resolution",
+            "lpv half-resolution lookup",
             "direct lighting + lpv upsample",
         ] {
             assert!(
@@ -2149,8 +2153,15 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
         );
 
         let positions = frame.read_positions(&gpu).unwrap();
-        let normals = frame.read_normals(&gpu).unwrap();
-        let albedos = frame.read_albedos(&gpu).unwrap();
+        let halves = |image| -> Vec<[f32; 3]> {
+            let bytes = gpu.read_image(image).unwrap();
+            bytemuck::cast_slice::<u8, [u16; 4]>(&bytes)
+                .iter()
+                .map(|p| [p[0], p[1], p[2]].map(common::half_to_f32))
+                .collect()
+        };
+        let normals = halves(&frame.view().gbuffer.normal);
+        let albedos = halves(&frame.view().gbuffer.albedo);
         let eye = frame.view().eye.position.as_dvec3();
         let pixel = |x: u32, y: u32| (y * width + x) as usize;
         // A surface pixel's light per unit albedo, its surface and albedo.

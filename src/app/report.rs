@@ -324,7 +324,7 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
     let bar = super::progress::counting("report", "configurations");
     let mut rows = Vec::new();
     let mut first_images: Vec<(&str, HdrImage)> = Vec::new();
-    let mut resolution_images: Vec<(usize, HdrImage)> = Vec::new();
+    let mut unpaired: Vec<(usize, HdrImage)> = Vec::new();
     for (i, (entry, swept, settings)) in plan.iter().enumerate() {
         let frames = config
             .frames
@@ -354,12 +354,9 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
             similarity_vs_first: metrics::similarity(&full, first, None)?,
             image,
         });
-        if swept.iter().any(|(name, _)| name == RESOLUTION.0) {
-            resolution_images.push((rows.len() - 1, run.indirect));
-        }
+        pair_resolutions(&mut rows, &mut unpaired, run.indirect)?;
         super::progress::update(&bar, i as u32 + 1, plan.len() as u32);
     }
-    score_against_full_resolution(&mut rows, &resolution_images)?;
     let baseline = rows
         .iter()
         .filter(|r| r.method == BASELINE)
@@ -396,43 +393,58 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
     Ok(report)
 }
 
-/// Score each row at `--lookup-resolution half` among `images` (row index, indirect image)
-/// against the row of the same method and other settings at full resolution.
-fn score_against_full_resolution(
+/// The last of `rows`, whose indirect image is `image`: if it sweeps [`RESOLUTION`]'s setting
+/// and the row of the same method and other settings at the other value is among `unpaired`
+/// (row index, indirect image), score the row at `half` against the one at `full` and drop
+/// the partner's image; else keep this row's image in `unpaired` until its partner comes.
+fn pair_resolutions(
     rows: &mut [ReportRow],
-    images: &[(usize, HdrImage)],
+    unpaired: &mut Vec<(usize, HdrImage)>,
+    image: HdrImage,
 ) -> anyhow::Result<()> {
     let (setting, approximate, exact) = RESOLUTION;
-    // The row's settings with the resolution's value replaced by `value`.
-    let with = |row: &ReportRow, value: &str| -> Combination {
-        row.settings
-            .iter()
-            .map(|(n, v)| {
-                (
-                    n.clone(),
-                    if n == setting {
-                        value.to_string()
-                    } else {
-                        v.clone()
-                    },
-                )
-            })
-            .collect()
+    let last = rows.len() - 1;
+    let Some(value) = rows[last]
+        .settings
+        .iter()
+        .find(|(name, _)| name == setting)
+        .map(|(_, value)| value.clone())
+    else {
+        return Ok(());
     };
-    for (half, half_image) in images {
-        if !rows[*half]
-            .settings
-            .contains(&(setting.to_string(), approximate.to_string()))
-        {
-            continue;
+    let other = match value.as_str() {
+        v if v == approximate => exact,
+        v if v == exact => approximate,
+        _ => return Ok(()),
+    };
+    let wanted: Combination = rows[last]
+        .settings
+        .iter()
+        .map(|(n, v)| {
+            (
+                n.clone(),
+                if n == setting {
+                    other.to_string()
+                } else {
+                    v.clone()
+                },
+            )
+        })
+        .collect();
+    let partner = unpaired
+        .iter()
+        .position(|(i, _)| rows[*i].method == rows[last].method && rows[*i].settings == wanted);
+    match partner {
+        Some(k) => {
+            let (index, partner_image) = unpaired.swap_remove(k);
+            let (half, (half_image, full_image)) = if value == approximate {
+                (last, (&image, &partner_image))
+            } else {
+                (index, (&partner_image, &image))
+            };
+            rows[half].vs_full_resolution = Some(metrics::compare(half_image, full_image, None)?);
         }
-        let wanted = with(&rows[*half], exact);
-        let full = images
-            .iter()
-            .find(|(i, _)| rows[*i].method == rows[*half].method && rows[*i].settings == wanted);
-        if let Some((_, full_image)) = full {
-            rows[*half].vs_full_resolution = Some(metrics::compare(half_image, full_image, None)?);
-        }
+        None => unpaired.push((last, image)),
     }
     Ok(())
 }

@@ -359,8 +359,8 @@ impl Gpu {
             .initial_layout(vk::ImageLayout::UNDEFINED);
         if desc.render_format.is_some() {
             assert!(
-                desc.layers == 1 && !desc.array,
-                "a render format is for single-layer images"
+                desc.kind == vk::ImageType::TYPE_2D && desc.layers == 1 && !desc.array,
+                "a render format is for single-layer 2-D images"
             );
             info = info
                 .flags(vk::ImageCreateFlags::MUTABLE_FORMAT)

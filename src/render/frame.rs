@@ -509,38 +509,6 @@ impl Frame {
         let bytes = gpu.read_image(&self.view().gbuffer.position)?;
         Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec())
     }
-
-    /// The first view's G-buffer normals, per pixel, for tests.
-    pub fn read_normals(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 3]>> {
-        read_half_rgb(gpu, &self.view().gbuffer.normal)
-    }
-
-    /// The first view's G-buffer albedos, per pixel, for tests.
-    pub fn read_albedos(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 3]>> {
-        read_half_rgb(gpu, &self.view().gbuffer.albedo)
-    }
-}
-
-/// The RGB of every texel of RGBA half-float `image`.
-fn read_half_rgb(gpu: &Gpu, image: &Image) -> GpuResult<Vec<[f32; 3]>> {
-    let bytes = gpu.read_image(image)?;
-    Ok(bytemuck::cast_slice::<u8, [u16; 4]>(&bytes)
-        .iter()
-        .map(|p| [p[0], p[1], p[2]].map(half_to_f32))
-        .collect())
-}
-
-/// The value of IEEE 754 half float `bits`.
-fn half_to_f32(bits: u16) -> f32 {
-    let sign = if bits & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exponent = i32::from((bits >> 10) & 0x1f);
-    let mantissa = f32::from(bits & 0x3ff);
-    match exponent {
-        0 => sign * mantissa * 2f32.powi(-24),
-        31 if mantissa == 0.0 => sign * f32::INFINITY,
-        31 => f32::NAN,
-        _ => sign * (1.0 + mantissa / 1024.0) * 2f32.powi(exponent - 15),
-    }
 }
 
 /// Where the frame's order goes: the head (graphics), the parts, the tail (graphics).
@@ -650,22 +618,5 @@ impl Segments for Split<'_, '_> {
             ),
             None => Err(finished()),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::half_to_f32;
-
-    #[test]
-    fn half_floats_read_back_as_their_values() {
-        assert_eq!(half_to_f32(0x3c00), 1.0);
-        assert_eq!(half_to_f32(0xc000), -2.0);
-        assert_eq!(half_to_f32(0x3555), 0.333_251_95);
-        assert_eq!(half_to_f32(0x0001), 2f32.powi(-24));
-        assert_eq!(half_to_f32(0x7bff), 65504.0);
-        assert_eq!(half_to_f32(0x7c00), f32::INFINITY);
-        assert!(half_to_f32(0x7e00).is_nan());
-        assert_eq!(half_to_f32(0x8000), 0.0);
     }
 }

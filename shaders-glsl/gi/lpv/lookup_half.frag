@@ -22,5 +22,5 @@ void main() {
     // Background pixels (w = 0): no light, and a distance no surface is alike to.
     out_light = position.w != 0.0
         ? pack_half_light(light, distance(position.xyz, pc.eye.xyz), n)
-        : pack_half_light(vec3(0.0), NO_SURFACE, vec3(0.0, 0.0, 1.0));
+        : pack_half_light(vec3(0.0), UPSAMPLE_NO_SURFACE, vec3(0.0, 0.0, 1.0));
 }

@@ -67,6 +67,16 @@ crate::shared_constants! {
     LOOKUP_FIELD_WORDS: u32 = 6;
     // --lookup-resolution half: the quarter-size image of the lattices' light (lpv/upsample.glsl).
     LOOKUP_HALF_LIGHT: u32 = 23;
+    // The upsample's weights (lpv/upsample.glsl and its f64 mirror, src/gi/lpv/upsample.rs):
+    // the relative distance difference at which a texel's weight reaches zero, the least cosine
+    // of a pixel's normal and ray it counts, the sum of weights below which no texel is alike,
+    // the margin by which a later texel must be more alike to be the most alike, and the
+    // distance a texel without a surface holds.
+    UPSAMPLE_DISTANCE_TOLERANCE: f32 = 0.05;
+    UPSAMPLE_MIN_FACING: f32 = 0.1;
+    UPSAMPLE_LEAST_WEIGHT: f32 = 0.001;
+    UPSAMPLE_MISS_MARGIN: f32 = 0.001;
+    UPSAMPLE_NO_SURFACE: f32 = 1e30;
     // The specialisation constant of the number of fields, clear of direct lighting's.
     LOOKUP_FIELDS_CONSTANT: u32 = 8;
 }

@@ -35,8 +35,8 @@
 //!
 //! At half resolution, per texel of the quarter-size image (a quarter of the pixels): the
 //! G-buffer's position and normal read (24 B) and the texel written (16 B), 40 B; the lookup's
-//! arithmetic but albedo (3), plus the distance to the eye 8 and the packing 20 (octahedral
-//! normal 12, the half floats and the snorms 8). The upsample, per pixel: the G-buffer (32 B),
+//! arithmetic but albedo (3 a lattice), plus the distance to the eye 8 and the packing 20
+//! (octahedral normal 12, the exponent, half floats and snorms 8). The upsample, per pixel: the G-buffer (32 B),
 //! the HDR pixel read and written (32 B), and a quarter of a texel (4 B: each texel serves four
 //! pixels from the cache), 68 B; the normal 9, the distance 8, per texel of four the unpacking
 //! 17 (octahedral normal 12, the rest 5), bilinear weight 3, distance tent 5, the normals'
@@ -98,11 +98,13 @@ pub const HALF_LOOKUP_BYTES_PER_TEXEL: f64 = 40.0;
 
 /// Flops of the half-resolution lookup of `lattices` lattices per texel.
 pub fn half_lookup_flops_per_texel(lattices: u32) -> f64 {
-    lookup_flops_per_pixel(lattices) - 3.0 + 8.0 + 20.0
+    lookup_flops_per_pixel(lattices) - 3.0 * f64::from(lattices) + 8.0 + 20.0
 }
 
+/// Bytes of its texels the upsample reads per pixel at the ideal (each texel serves four).
+pub const UPSAMPLE_TEXEL_BYTES_PER_PIXEL: f64 = 4.0;
 /// Bytes and flops of the half-resolution lookup's upsample per pixel at the ideal.
-pub const UPSAMPLE_BYTES_PER_PIXEL: f64 = 68.0;
+pub const UPSAMPLE_BYTES_PER_PIXEL: f64 = 64.0 + UPSAMPLE_TEXEL_BYTES_PER_PIXEL;
 pub const UPSAMPLE_FLOPS_PER_PIXEL: f64 = 9.0 + 8.0 + 4.0 * 43.0 + 4.0 + 3.0;
 
 #[cfg(test)]
@@ -127,6 +129,7 @@ mod tests {
         assert_eq!(lookup_flops_per_pixel(1), 275.0);
         assert_eq!(lookup_flops_per_pixel(2), 538.0);
         assert_eq!(half_lookup_flops_per_texel(1), 300.0);
+        assert_eq!(half_lookup_flops_per_texel(2), 560.0);
         assert_eq!(UPSAMPLE_FLOPS_PER_PIXEL, 196.0);
     }
 }

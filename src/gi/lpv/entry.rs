@@ -325,7 +325,8 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         lookup_offset: float_or("lookup-offset", defaults.lookup_offset)?,
         lookup_resolution: match s.has("lookup-resolution").then(|| s.text("lookup-resolution")).transpose()? {
             Some("half") => LookupResolution::Half,
-            _ => LookupResolution::Full,
+            Some(_) => LookupResolution::Full,
+            None => defaults.lookup_resolution,
         },
         far_lattice: match s.has("far-lattice").then(|| s.text("far-lattice")).transpose()? {
             Some(text) => far_lattice(text)?,

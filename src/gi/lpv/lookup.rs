@@ -16,6 +16,7 @@ use glam::Vec3;
 
 use super::bindings as ids;
 use super::cost;
+use super::upsample::half_size;
 use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
     Binding, Buffer, Draw, Gpu, GpuError, GpuResult, Image, ImageDesc, PushConstants, RasterPass, RasterPipeline,
@@ -33,7 +34,7 @@ const LOOKUP: &str = "lpv lookup";
 const LIT_LOOKUP: &str = "direct lighting + lpv lookup";
 /// `--lookup-resolution half`: the lookup into the quarter-size image, the upsample apart and
 /// the upsample inside direct lighting.
-const HALF_LOOKUP: &str = "lpv lookup at half resolution";
+const HALF_LOOKUP: &str = "lpv half-resolution lookup";
 const UPSAMPLE: &str = "lpv upsample";
 const LIT_UPSAMPLE: &str = "direct lighting + lpv upsample";
 
@@ -56,17 +57,21 @@ pub enum LookupResolution {
 /// lighting anyway, and the lookup's arithmetic but the normal's normalisation). Half: the
 /// lookup at a quarter of the pixels, then the upsample apart or inside direct lighting.
 pub fn lookup_passes(lattices: u32, resolution: LookupResolution) -> Vec<PixelPass> {
-    let (apart, lit, bytes, flops) = match resolution {
+    // What the pass adds to direct lighting's bytes inside it: nothing for the lookup (its
+    // lattices stay in cache), the quarter of a texel each pixel's upsample reads.
+    let (apart, lit, bytes, lit_bytes, flops) = match resolution {
         LookupResolution::Full => (
             LOOKUP,
             LIT_LOOKUP,
             cost::LOOKUP_BYTES_PER_PIXEL,
+            0.0,
             cost::lookup_flops_per_pixel(lattices),
         ),
         LookupResolution::Half => (
             UPSAMPLE,
             LIT_UPSAMPLE,
             cost::UPSAMPLE_BYTES_PER_PIXEL,
+            cost::UPSAMPLE_TEXEL_BYTES_PER_PIXEL,
             cost::UPSAMPLE_FLOPS_PER_PIXEL,
         ),
     };
@@ -79,7 +84,7 @@ pub fn lookup_passes(lattices: u32, resolution: LookupResolution) -> Vec<PixelPa
         },
         PixelPass {
             pass: lit,
-            bytes_per_pixel: 0.0,
+            bytes_per_pixel: lit_bytes,
             flops_per_pixel: flops - cost::NORMALISE_FLOPS,
             with_direct_lighting: true,
         },
@@ -167,8 +172,9 @@ fn field_words(fields: &[LookupField]) -> FieldWords {
 /// `--lookup-resolution half`'s lookup into a quarter-size image per view.
 struct HalfLookup {
     pipeline: RasterPipeline,
-    /// Per view (by index), its image of the lattices' light (lpv/half_light.glsl).
-    images: Vec<Image>,
+    /// Per view (by index), its image of the lattices' light (lpv/half_light.glsl), once
+    /// fitted.
+    images: Vec<Option<Image>>,
 }
 
 /// The lookup's pipelines for a number of fields (1 or 2), its trilinear sampler and the buffer
@@ -303,31 +309,29 @@ impl Lookup {
         }
     }
 
-    /// Fit the lookup's per-view state to view `index` (`view`): at half resolution, its
-    /// quarter-size image, made anew when the view's size changed. Call before the view's
-    /// lookup in every frame.
-    pub fn fit_view(&mut self, gpu: &Gpu, view: &View, index: usize) -> GpuResult<()> {
+    /// Fit the lookup's per-view state to view `index` of `views`: at half resolution, its
+    /// quarter-size image, made anew when the view's size changed (the images of views past
+    /// the last are dropped). Call before the view's lookup in every frame.
+    pub fn fit_view(&mut self, gpu: &Gpu, views: &[View], index: usize) -> GpuResult<()> {
         let Some(half) = self.half.as_mut() else {
             return Ok(());
         };
-        let (width, height) = (view.width().div_ceil(2), view.height().div_ceil(2));
-        if let Some(image) = half.images.get(index)
-            && (image.width(), image.height()) == (width, height)
-        {
+        let view = &views[index];
+        let (width, height) = half_size(view.width(), view.height());
+        let fits = |image: &Image| (image.width(), image.height()) == (width, height);
+        if half.images.len() == views.len() && half.images[index].as_ref().is_some_and(fits) {
             return Ok(());
         }
-        let image = gpu.create_image(&ImageDesc::new_2d(
+        // Images of the old size or views may still be in flight.
+        gpu.wait_idle()?;
+        half.images.resize_with(views.len(), || None);
+        half.images[index] = Some(gpu.create_image(&ImageDesc::new_2d(
             "lpv half-resolution light",
             HALF_LIGHT_FORMAT,
             width,
             height,
             vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::STORAGE,
-        ))?;
-        if index < half.images.len() {
-            half.images[index] = image;
-        } else {
-            half.images.push(image);
-        }
+        ))?);
         Ok(())
     }
 
@@ -365,7 +369,7 @@ impl Lookup {
         let Some(half) = &self.half else {
             return Ok(None);
         };
-        let image = half.images.get(index).ok_or_else(|| {
+        let image = half.images.get(index).and_then(Option::as_ref).ok_or_else(|| {
             GpuError::Setup(format!("the lookup was not fitted to view {index}"))
         })?;
         let gb = &view.gbuffer;

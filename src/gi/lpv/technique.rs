@@ -1579,7 +1579,7 @@ impl GiMethod for Lpv {
 
     fn record_view(&mut self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
         match self.lookup.as_mut() {
-            Some(lookup) => lookup.fit_view(rec.gpu(), &ctx.views[view], view),
+            Some(lookup) => lookup.fit_view(rec.gpu(), ctx.views, view),
             None => Ok(()),
         }
     }

@@ -78,7 +78,7 @@ impl GiMethod for TwoScale {
     }
 
     fn record_view(&mut self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
-        self.lookup.fit_view(rec.gpu(), &ctx.views[view], view)
+        self.lookup.fit_view(rec.gpu(), ctx.views, view)
     }
 
     fn record_light(&mut self, rec: &mut Recorder, ctx: &FrameContext) -> GpuResult<()> {

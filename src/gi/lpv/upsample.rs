@@ -12,18 +12,20 @@
 
 use glam::{DVec2, DVec3};
 
+use super::bindings as ids;
+
 /// The relative difference of distances from the eye at which a texel's weight reaches zero.
-pub const DISTANCE_TOLERANCE: f64 = 0.05;
+pub const DISTANCE_TOLERANCE: f64 = ids::UPSAMPLE_DISTANCE_TOLERANCE as f64;
 /// The least cosine between a pixel's normal and its ray the distance weight counts.
-pub const MIN_FACING: f64 = 0.1;
+pub const MIN_FACING: f64 = ids::UPSAMPLE_MIN_FACING as f64;
 /// How much more alike than the first a later texel must be to be the most alike.
-pub const MISS_MARGIN: f64 = 1e-3;
+pub const MISS_MARGIN: f64 = ids::UPSAMPLE_MISS_MARGIN as f64;
 /// The exponent of the normals' cosine in a texel's weight.
 pub const NORMAL_POWER: i32 = 8;
-/// Weights summing below this count as no alike texel.
-pub const LEAST_WEIGHT: f64 = 1e-3;
+/// Weights summing to this or less count as no alike texel.
+pub const LEAST_WEIGHT: f64 = ids::UPSAMPLE_LEAST_WEIGHT as f64;
 /// The distance a texel without a surface (background) holds.
-pub const NO_SURFACE: f64 = 1e30;
+pub const NO_SURFACE: f64 = ids::UPSAMPLE_NO_SURFACE as f64;
 
 /// A texel of the quarter-size image.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,8 +121,10 @@ pub fn upsampled_light(
         let gap = (texel.distance - distance).abs() * facing / (DISTANCE_TOLERANCE * distance);
         let cosine = texel.normal.dot(normal).max(0.0);
         let w = bilinear_x * bilinear_y * (1.0 - gap).max(0.0) * cosine.powi(NORMAL_POWER);
-        sum += w * texel.light;
-        total += w;
+        if w > 0.0 {
+            sum += w * texel.light;
+            total += w;
+        }
         let miss = gap + 1.0 - cosine;
         if miss + MISS_MARGIN < nearest.0 {
             nearest = (miss, texel.light);
@@ -201,7 +205,8 @@ mod tests {
                 assert!((light.x - expected).abs() < 1e-12, "({x}, {y}): {light}");
             }
         }
-        // Past the last texel (an odd-sized view's last column) the edge texel repeats.
+        // Past the last texel (an even-sized view's last column, here of 8 pixels) the edge
+        // texel repeats.
         let edge = upsampled_light(&texels, size, (7, 0), facing(5.0, DVec3::Y));
         assert!((edge.x - 7.0).abs() < 1e-12, "{edge}");
     }
@@ -222,10 +227,14 @@ mod tests {
         assert!((light.x - 10.0).abs() < 1e-12, "{light}");
         let far = upsampled_light(&texels, size, (1, 1), facing(2.0, DVec3::Z));
         assert!((far.x - 30.0).abs() < 1e-12, "the far texels' mean: {far}");
-        // Within the tolerance the tent weighs the texel down, not out: 1.02 is 40% of the
-        // way to zero weight for the near texels.
-        let close = upsampled_light(&texels, size, (0, 0), facing(1.02, DVec3::Z));
-        assert!((close.x - 10.0).abs() < 1e-12, "{close}");
+        // Within the tolerance the tent weighs a texel down, not out: between texels at 1.0
+        // and 1.03 a pixel at 1.0 weighs the second by 1 - 0.03 / 0.05 = 0.4.
+        let near = [texel(10.0, 1.0, DVec3::Z), texel(20.0, 1.03, DVec3::Z)];
+        let close = upsampled_light(&near, (2, 1), (1, 0), facing(1.0, DVec3::Z));
+        let w = 1.0 - 0.03 / DISTANCE_TOLERANCE;
+        assert!((w - 0.4).abs() < 1e-6);
+        let expected = (10.0 * 0.5 + 20.0 * 0.5 * w) / (0.5 + 0.5 * w);
+        assert!((close.x - expected).abs() < 1e-9, "{close} against {expected}");
     }
 
     #[test]
