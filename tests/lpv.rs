@@ -2029,19 +2029,7 @@ fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
                     lookup_apart,
                     ..vkgi::render::FrameOptions::default()
                 };
-                let mut frame = vkgi::render::Frame::new(&gpu, scene, options).unwrap();
-                let mut method =
-                    two_scale::create(&Setup::new(&gpu, scene), settings.clone()).unwrap();
-                let ring =
-                    vkgi::render::runner::run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 3)
-                        .unwrap();
-                let passes: Vec<String> = ring
-                    .profiler
-                    .report()
-                    .passes
-                    .iter()
-                    .map(|p| p.name.clone())
-                    .collect();
+                let (frame, passes) = three_frames(&gpu, scene, options, settings.clone());
                 let ldr = frame.read_ldr(&gpu).unwrap();
                 (frame.read_hdr(&gpu).unwrap(), ldr, passes)
             };
@@ -2114,18 +2102,7 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
                 lookup_resolution: resolution,
                 ..LpvSettings::default()
             };
-            let mut frame = vkgi::render::Frame::new(&gpu, &scene, options).unwrap();
-            let mut method = two_scale::create(&Setup::new(&gpu, &scene), settings).unwrap();
-            let ring =
-                vkgi::render::runner::run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 3)
-                    .unwrap();
-            let passes: Vec<String> = ring
-                .profiler
-                .report()
-                .passes
-                .iter()
-                .map(|p| p.name.clone())
-                .collect();
+            let (frame, passes) = three_frames(&gpu, &scene, options, settings);
             let hdr = frame.read_hdr(&gpu).unwrap();
             (frame, hdr, passes)
         };
@@ -2226,4 +2203,26 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
         );
     }
     common::assert_no_validation_errors(&gpu);
+}
+
+/// Three timed frames (no warm-up) of LPV `settings` (one lattice or two scales) in `scene`: the
+/// frame and the names of the passes the profiler saw.
+fn three_frames(
+    gpu: &vkgi::gpu::Gpu,
+    scene: &Scene,
+    options: vkgi::render::FrameOptions,
+    settings: LpvSettings,
+) -> (vkgi::render::Frame, Vec<String>) {
+    let mut frame = vkgi::render::Frame::new(gpu, scene, options).unwrap();
+    let mut method = two_scale::create(&Setup::new(gpu, scene), settings).unwrap();
+    let ring =
+        vkgi::render::runner::run_frames(gpu, &mut frame, Some(method.as_mut()), 0, 3).unwrap();
+    let passes = ring
+        .profiler
+        .report()
+        .passes
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
+    (frame, passes)
 }

@@ -169,6 +169,24 @@ fn field_words(fields: &[LookupField]) -> FieldWords {
     ]
 }
 
+/// Direct lighting of `shape` with a lookup drawn in (`shaders`, specialised by `spec` on top
+/// of direct lighting's constants); None where direct lighting has no fragment form (`shape`
+/// None).
+fn lit_pipeline(
+    gpu: &Gpu,
+    shape: Option<DirectShape>,
+    name: &str,
+    shaders: FullScreenShaders,
+    spec: impl FnOnce(Specialization) -> Specialization,
+) -> GpuResult<Option<(DirectShape, RasterPipeline)>> {
+    let Some(shape) = shape else {
+        return Ok(None);
+    };
+    let spec = spec(shape.specialization().clone());
+    let pipeline = full_screen_with(gpu, name, shaders, HDR_FORMAT, Blend::Replace, &spec)?;
+    Ok(Some((shape, pipeline)))
+}
+
 /// `--lookup-resolution half`'s lookup into a quarter-size image per view.
 struct HalfLookup {
     pipeline: RasterPipeline,
@@ -214,25 +232,11 @@ impl Lookup {
         let shape = DirectShape::of(scene, &scene.raster_lights());
         let (apart, lit, half) = match resolution {
             LookupResolution::Full => {
-                let lit = match shape {
-                    Some(shape) => {
-                        let shaders = FullScreenShaders {
-                            vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
-                            fragment: shaders::GI_LPV_LIT_LOOKUP_FRAG,
-                        };
-                        let spec = own(shape.specialization().clone());
-                        let pipeline = full_screen_with(
-                            gpu,
-                            LIT_LOOKUP,
-                            shaders,
-                            HDR_FORMAT,
-                            Blend::Replace,
-                            &spec,
-                        )?;
-                        Some((shape, pipeline))
-                    }
-                    None => None,
+                let shaders = FullScreenShaders {
+                    vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
+                    fragment: shaders::GI_LPV_LIT_LOOKUP_FRAG,
                 };
+                let lit = lit_pipeline(gpu, shape, LIT_LOOKUP, shaders, own)?;
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
                     fragment: shaders::GI_LPV_LOOKUP_FRAG,
@@ -242,25 +246,11 @@ impl Lookup {
                 (apart, lit, None)
             }
             LookupResolution::Half => {
-                let lit = match shape {
-                    Some(shape) => {
-                        let shaders = FullScreenShaders {
-                            vertex: shaders::RASTER_LIGHTING_VERT,
-                            fragment: shaders::GI_LPV_LIT_UPSAMPLE_FRAG,
-                        };
-                        let spec = shape.specialization().clone();
-                        let pipeline = full_screen_with(
-                            gpu,
-                            LIT_UPSAMPLE,
-                            shaders,
-                            HDR_FORMAT,
-                            Blend::Replace,
-                            &spec,
-                        )?;
-                        Some((shape, pipeline))
-                    }
-                    None => None,
+                let shaders = FullScreenShaders {
+                    vertex: shaders::RASTER_LIGHTING_VERT,
+                    fragment: shaders::GI_LPV_LIT_UPSAMPLE_FRAG,
                 };
+                let lit = lit_pipeline(gpu, shape, LIT_UPSAMPLE, shaders, |spec| spec)?;
                 let apart = full_screen(
                     gpu,
                     UPSAMPLE,
