@@ -29,11 +29,6 @@ use super::profile::{core_pass_median, entries};
 /// The registered name of the baseline every method's error is read against.
 const BASELINE: &str = "ambient";
 
-/// The setting whose value `half` approximates the value `full` (LPV's and ILPV's
-/// `--lookup-resolution`): a row at `half` is also scored against the row of the same
-/// configuration at `full`.
-const RESOLUTION: (&str, &str, &str) = ("lookup-resolution", "half", "full");
-
 /// What the report covers.
 #[derive(Clone, Debug)]
 pub struct ReportConfig {
@@ -71,8 +66,9 @@ pub struct ReportRow {
     pub full: Metrics,
     /// Indirect relMSE over the ambient baseline's (below 1 beats it).
     pub rel_mse_vs_ambient: Option<f64>,
-    /// A row at `--lookup-resolution half`: its indirect image against the same configuration's
-    /// at full resolution (None for other rows, or where the grid has no such row).
+    /// A row at a setting's approximate value (`Setting::approximates`: LPV's and ILPV's
+    /// `--lookup-resolution half`): its indirect image against the same configuration's at the
+    /// exact value (full resolution). None for other rows, or where the grid has no such row.
     pub vs_full_resolution: Option<Metrics>,
     /// Seed 002's similarity of the full image against the same method's first row (the
     /// LightWave thesis's tables compare every setting with its default, not with the truth).
@@ -354,7 +350,7 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
             similarity_vs_first: metrics::similarity(&full, first, None)?,
             image,
         });
-        pair_resolutions(&mut rows, &mut unpaired, run.indirect)?;
+        pair_approximations(entry, &mut rows, &mut unpaired, run.indirect)?;
         super::progress::update(&bar, i as u32 + 1, plan.len() as u32);
     }
     let baseline = rows
@@ -393,56 +389,54 @@ pub fn run(gpu: &Gpu, config: &ReportConfig) -> anyhow::Result<Report> {
     Ok(report)
 }
 
-/// The last of `rows`, whose indirect image is `image`: if it sweeps [`RESOLUTION`]'s setting
-/// and the row of the same method and other settings at the other value is among `unpaired`
-/// (row index, indirect image), score the row at `half` against the one at `full` and drop
-/// the partner's image; else keep this row's image in `unpaired` until its partner comes.
-fn pair_resolutions(
+/// The last of `rows`, a row of `entry` whose indirect image is `image`: if it sweeps a
+/// setting with an approximate value (`Setting::approximates`) and the row of the same method
+/// and other settings at that setting's other value is among `unpaired` (row index, indirect
+/// image), score the approximate row against the exact one and drop the partner's image; else
+/// keep this row's image in `unpaired` until its partner comes.
+fn pair_approximations(
+    entry: &MethodEntry,
     rows: &mut [ReportRow],
     unpaired: &mut Vec<(usize, HdrImage)>,
     image: HdrImage,
 ) -> anyhow::Result<()> {
-    let (setting, approximate, exact) = RESOLUTION;
     let last = rows.len() - 1;
-    let Some(value) = rows[last]
+    // The swept setting with an approximate value, this row's value of it and the other.
+    let approximation = rows[last]
         .settings
         .iter()
-        .find(|(name, _)| name == setting)
-        .map(|(_, value)| value.clone())
-    else {
+        .enumerate()
+        .find_map(|(k, (name, value))| {
+            let (approximate, exact) = entry
+                .settings
+                .iter()
+                .find(|s| s.name == name)?
+                .approximates?;
+            let other = match value.as_str() {
+                v if v == approximate => exact,
+                v if v == exact => approximate,
+                _ => return None,
+            };
+            Some((k, value == approximate, other))
+        });
+    let Some((k, is_approximate, other)) = approximation else {
         return Ok(());
     };
-    let other = match value.as_str() {
-        v if v == approximate => exact,
-        v if v == exact => approximate,
-        _ => return Ok(()),
-    };
-    let wanted: Combination = rows[last]
-        .settings
-        .iter()
-        .map(|(n, v)| {
-            (
-                n.clone(),
-                if n == setting {
-                    other.to_string()
-                } else {
-                    v.clone()
-                },
-            )
-        })
-        .collect();
+    let mut wanted = rows[last].settings.clone();
+    wanted[k].1 = other.to_string();
     let partner = unpaired
         .iter()
-        .position(|(i, _)| rows[*i].method == rows[last].method && rows[*i].settings == wanted);
+        .position(|(i, _)| rows[*i].method == entry.name && rows[*i].settings == wanted);
     match partner {
-        Some(k) => {
-            let (index, partner_image) = unpaired.swap_remove(k);
-            let (half, (half_image, full_image)) = if value == approximate {
+        Some(p) => {
+            let (index, partner_image) = unpaired.swap_remove(p);
+            let (approximate, (approximate_image, exact_image)) = if is_approximate {
                 (last, (&image, &partner_image))
             } else {
                 (index, (&partner_image, &image))
             };
-            rows[half].vs_full_resolution = Some(metrics::compare(half_image, full_image, None)?);
+            rows[approximate].vs_full_resolution =
+                Some(metrics::compare(approximate_image, exact_image, None)?);
         }
         None => unpaired.push((last, image)),
     }
@@ -469,7 +463,7 @@ fn markdown(report: &Report) -> String {
     );
     let _ = writeln!(
         out,
-        "`{BASELINE}` is the baseline: albedo times one constant irradiance per channel, fitted by least squares to this reference's indirect light (an oracle). \"÷ {BASELINE}\" is a row's indirect relMSE over the baseline's: below 1 beats it. \"Against full resolution\" scores a row at `--lookup-resolution half` against the same configuration at full resolution: the error the half-resolution lookup and its upsample add.\n"
+        "`{BASELINE}` is the baseline: albedo times one constant irradiance per channel, fitted by least squares to this reference's indirect light (an oracle). \"÷ {BASELINE}\" is a row's indirect relMSE over the baseline's: below 1 beats it. \"Against full resolution\" scores a row at an approximate setting (`--lookup-resolution half`) against the same configuration at the value it approximates (full resolution): the error the approximation adds.\n"
     );
     let _ = writeln!(
         out,

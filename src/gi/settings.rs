@@ -45,6 +45,10 @@ pub struct Setting {
     pub keys: Option<Keys>,
     /// Values `vkgi report` sweeps when the user names none (empty: the default only).
     pub sweep: &'static [&'static str],
+    /// (approximate, exact): a value that trades accuracy for time against the value it
+    /// approximates; `vkgi report` scores each row at the first against the row of the same
+    /// configuration at the second.
+    pub approximates: Option<(&'static str, &'static str)>,
 }
 
 impl Setting {
@@ -62,6 +66,7 @@ impl Setting {
             default,
             keys: None,
             sweep: &[],
+            approximates: None,
         }
     }
 
@@ -76,6 +81,12 @@ impl Setting {
 
     pub const fn sweep(mut self, values: &'static [&'static str]) -> Self {
         self.sweep = values;
+        self
+    }
+
+    /// Value `approximate` approximates value `exact` (see [`Setting::approximates`]).
+    pub const fn approximating(mut self, approximate: &'static str, exact: &'static str) -> Self {
+        self.approximates = Some((approximate, exact));
         self
     }
 

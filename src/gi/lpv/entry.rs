@@ -141,7 +141,8 @@ const LOOKUP_RESOLUTION: Setting = Setting::new(
     "full",
     "Where the lookup evaluates the lattices: at every pixel (full), or at every second pixel in x and y with a depth- and normal-aware upsample (half; vkgi report scores its error against full)",
 )
-.sweep(&["full", "half"]);
+.sweep(&["full", "half"])
+.approximating("half", "full");
 const ILPV_LOOKUP: Setting = Setting::new(
     "ilpv-lookup",
     Kind::Choice(&["accumulated", "final"]),
