@@ -10,7 +10,7 @@ use vkgi::gi::lpv::projected;
 use vkgi::gi::lpv::technique::{ChannelPlan, FarLattice, IlpvLookup};
 use vkgi::gi::lpv::transfer::FaceScheme;
 use vkgi::gi::lpv::two_scale;
-use vkgi::gi::lpv::{Kernel, Lpv, LpvSettings, Scheme};
+use vkgi::gi::lpv::{Kernel, LookupFilter, Lpv, LpvSettings, Scheme};
 use vkgi::gi::registry::Setup;
 use vkgi::gi::shared::sh;
 use vkgi::scene::Scene;
@@ -1893,25 +1893,38 @@ fn assert_lookup_matches(gpu: &vkgi::gpu::Gpu, name: &str, fields: &[&Lpv], r: &
     );
 }
 
-/// The lookup samples 3-D copies of the lattices with the trilinear filter, and two scales look
-/// up both lattices in one pass: both against the f64 lookup of the same lattices and G-buffer.
-/// lavapipe filters with float weights; a GPU's have its subTexelPrecisionBits (8 on most), whose
-/// error this bound would not cover.
+/// The lookup, reading the lattices either way (3-D copies the sampler filters, or the lattice
+/// buffers as texels interpolated in the shader), and two scales looking up both lattices in one
+/// pass: all against the f64 lookup of the same lattices and G-buffer. lavapipe filters with
+/// float weights; a GPU's sampler has its subTexelPrecisionBits (8 on most), whose error this
+/// bound would not cover.
 #[test]
 fn the_lookup_matches_an_f64_lookup_of_the_same_lattices_with_one_and_two_scales() {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
     let setup = Setup::new(&gpu, &scene);
-    let one = LpvSettings {
-        far_lattice: FarLattice::Off,
-        ..ilpv(10)
-    };
-    let mut single = Lpv::new(&setup, one).unwrap();
-    let rendered = render_indirect(&gpu, &scene, &mut single);
-    assert_lookup_matches(&gpu, "one lattice", &[&single], &rendered);
-    let mut two = two_scale::TwoScale::new(&setup, ilpv(10), 5).unwrap();
-    let rendered = render_indirect(&gpu, &scene, &mut two);
-    assert_lookup_matches(&gpu, "two scales", &[&two.near, &two.far], &rendered);
+    for filter in [LookupFilter::Sampler, LookupFilter::Texels] {
+        let settings = LpvSettings {
+            lookup_filter: Some(filter),
+            ..ilpv(10)
+        };
+        let one = LpvSettings {
+            far_lattice: FarLattice::Off,
+            ..settings
+        };
+        let mut single = Lpv::new(&setup, one).unwrap();
+        let rendered = render_indirect(&gpu, &scene, &mut single);
+        assert_lookup_matches(
+            &gpu,
+            &format!("one lattice, {filter:?}"),
+            &[&single],
+            &rendered,
+        );
+        let mut two = two_scale::TwoScale::new(&setup, settings, 5).unwrap();
+        let rendered = render_indirect(&gpu, &scene, &mut two);
+        let name = format!("two scales, {filter:?}");
+        assert_lookup_matches(&gpu, &name, &[&two.near, &two.far], &rendered);
+    }
     common::assert_no_validation_errors(&gpu);
 }
 

@@ -1,26 +1,4 @@
 #version 460
-// The lookup at half resolution (--lookup-resolution half): per texel (x, y) of a quarter-size
-// target, the lattices' light per unit albedo (lpv/lookup_light.glsl) at the surface of
-// full-resolution pixel (2x, 2y), with that surface's distance from the eye and its normal
-// (lpv/half_light.glsl), for lpv/upsample.glsl to spread over the full-resolution pixels.
-#include "gi/lpv/lookup_light.glsl"
-#include "gi/lpv/half_light.glsl"
-
-layout(binding = LOOKUP_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
-layout(binding = LOOKUP_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
-layout(push_constant) uniform Push {
-    vec4 eye;
-} pc;
-
-layout(location = 0) out uvec4 out_light;
-
-void main() {
-    ivec2 pixel = 2 * ivec2(gl_FragCoord.xy);
-    vec4 position = imageLoad(gbuffer_position, pixel);
-    vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
-    vec3 light = lattice_radiance(position.xyz, n, vec3(1.0));
-    // Background pixels (w = 0): no light, and a distance no surface is alike to.
-    out_light = position.w != 0.0
-        ? pack_half_light(light, distance(position.xyz, pc.eye.xyz), n)
-        : pack_half_light(vec3(0.0), UPSAMPLE_NO_SURFACE, vec3(0.0, 0.0, 1.0));
-}
+// The lookup at half resolution (lpv/lookup_half_pass.glsl), the lattices as 3-D images
+// the sampler filters (--lookup-filter sampler, lpv/lookup_light.glsl).
+#include "gi/lpv/lookup_half_pass.glsl"

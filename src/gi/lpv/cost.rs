@@ -30,8 +30,9 @@
 //! products), the blend of 8 corners × 4 coefficients × 3 channels 192, the projections on the
 //! lobe 21, the clamp 3, albedo and scale 6 and the sum 3: 263. (The weights and the blend are
 //! the texture unit's work where one filters in hardware; the arithmetic is still what the
-//! result needs, and on lavapipe the CPU does it. The copy of each result lattice into the 3-D
-//! image the lookup samples, 32 B per cell and channel a frame, is its own pass in the profile.)
+//! result needs, and on a CPU device the shader does it (`--lookup-filter texels`). With the
+//! sampler, the copy of each result lattice into the 3-D image the lookup samples, 32 B per cell
+//! and channel a frame, is its own pass in the profile.)
 //!
 //! At half resolution, per texel of the quarter-size image (a quarter of the pixels): the
 //! G-buffer's position and normal read (24 B) and the texel written (16 B), 40 B; the lookup's

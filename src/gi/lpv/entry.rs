@@ -2,7 +2,7 @@
 //! sweeps), how many frames they need to settle, and their constructors.
 
 use super::geometry::BlockingLobe;
-use super::lookup::LookupResolution;
+use super::lookup::{LookupFilter, LookupResolution};
 use super::technique::{
     self as t, ChannelPlan, Extinction, FarLattice, IlpvLookup, InjectToward, Injection, Kernel, Lpv, LpvSettings,
     Scheme,
@@ -143,6 +143,12 @@ const LOOKUP_RESOLUTION: Setting = Setting::new(
 )
 .sweep(&["full", "half"])
 .approximating("half", "full");
+const LOOKUP_FILTER: Setting = Setting::new(
+    "lookup-filter",
+    Kind::Choice(&["auto", "sampler", "texels"]),
+    "auto",
+    "How the lookup interpolates the lattices: auto (texels on a CPU device, sampler elsewhere), sampler (copies of the lattices as 3-D images the sampler filters: one fetch per channel, the texture unit's work on a GPU) or texels (the lattices read as texels and interpolated in the shader: eight fetches per channel, about twice as fast as lavapipe's software filter); the same light within float rounding",
+);
 const ILPV_LOOKUP: Setting = Setting::new(
     "ilpv-lookup",
     Kind::Choice(&["accumulated", "final"]),
@@ -188,6 +194,7 @@ const ILPV_SETTINGS: &[Setting] = &[
     INJECTION,
     LOOKUP_OFFSET,
     LOOKUP_RESOLUTION,
+    LOOKUP_FILTER,
     ILPV_LOOKUP,
     FAR_LATTICE,
     NEAR_STEPS,
@@ -207,6 +214,7 @@ const LPV_SETTINGS: &[Setting] = &[
     INJECTION,
     LOOKUP_OFFSET,
     LOOKUP_RESOLUTION,
+    LOOKUP_FILTER,
 ];
 
 /// ILPV (the default method) and classic LPV.
@@ -328,6 +336,11 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
             Some("half") => LookupResolution::Half,
             Some(_) => LookupResolution::Full,
             None => defaults.lookup_resolution,
+        },
+        lookup_filter: match s.has("lookup-filter").then(|| s.text("lookup-filter")).transpose()? {
+            Some("sampler") => Some(LookupFilter::Sampler),
+            Some("texels") => Some(LookupFilter::Texels),
+            _ => defaults.lookup_filter,
         },
         far_lattice: match s.has("far-lattice").then(|| s.text("far-lattice")).transpose()? {
             Some(text) => far_lattice(text)?,

@@ -10,6 +10,13 @@
 //! depth- and normal-aware upsample (`lpv/upsample.glsl`, mirrored in f64 by
 //! [`super::upsample`]), drawn inside direct lighting or apart as above; `vkgi report` scores
 //! its error against full resolution.
+//!
+//! The lattices are read one of two ways ([`LookupFilter`], `--lookup-filter`): copied into 3-D
+//! images inside a border of zero cells that the sampler filters trilinearly (one fetch per
+//! channel, the texture unit's work on a GPU), or the lattice buffers read as texels and
+//! interpolated in the shader (eight fetches per channel, which lavapipe runs in about half the
+//! time of its software filter; docs/performance.md). The two give the same light within float
+//! rounding.
 
 use ash::vk;
 use glam::Vec3;
@@ -116,6 +123,53 @@ impl EyePush {
     }
 }
 
+/// How the lookup reads and interpolates the lattices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum LookupFilter {
+    /// Copies of the lattices as 3-D images that the sampler filters trilinearly.
+    Sampler,
+    /// The lattice buffers read as texels, the eight cells around a point weighted in the
+    /// shader.
+    Texels,
+}
+
+impl LookupFilter {
+    /// `--lookup-filter auto`: texels on a CPU device, whose sampler filters in software, and the
+    /// sampler on a GPU.
+    pub fn for_device(gpu: &Gpu) -> LookupFilter {
+        match gpu.info.device_type == vk::PhysicalDeviceType::CPU {
+            true => LookupFilter::Texels,
+            false => LookupFilter::Sampler,
+        }
+    }
+}
+
+/// What the lookup reads of one lattice, by its [`LookupFilter`].
+pub enum LatticeReads<'a> {
+    /// The R, G and B lattices as 3-D images, each inside a border of [`LOOKUP_BORDER`] zero
+    /// cells.
+    Images(&'a [Image; 3]),
+    /// The R, G and B lattice buffers, with texel views.
+    Texels([&'a Buffer; 3]),
+}
+
+impl LatticeReads<'_> {
+    fn filter(&self) -> LookupFilter {
+        match self {
+            LatticeReads::Images(_) => LookupFilter::Sampler,
+            LatticeReads::Texels(_) => LookupFilter::Texels,
+        }
+    }
+
+    /// Cells of zero around the lattice in what is read.
+    fn border(&self) -> u32 {
+        match self {
+            LatticeReads::Images(_) => LOOKUP_BORDER,
+            LatticeReads::Texels(_) => 0,
+        }
+    }
+}
+
 /// Cells of zero around the lattice in the lookup's 3-D images: the lookup samples them
 /// clamped to the edge, which costs lavapipe's sampler less than a border colour
 /// (docs/performance.md) and gives the same transparent black outside the lattice.
@@ -123,9 +177,7 @@ pub const LOOKUP_BORDER: u32 = 1;
 
 /// One lattice as the lookup reads it.
 pub struct LookupField<'a> {
-    /// The R, G and B lattices as 3-D images, each inside a border of [`LOOKUP_BORDER`] zero
-    /// cells.
-    pub images: &'a [Image; 3],
+    pub lattices: LatticeReads<'a>,
     /// The corner of the lattice's cell (0, 0, 0).
     pub origin: Vec3,
     pub cell_size: f32,
@@ -137,15 +189,18 @@ pub struct LookupField<'a> {
 }
 
 impl LookupField<'_> {
-    /// The corner of the images' texel (0, 0, 0), and the cell size.
+    /// The corner of the cell (0, 0, 0) of what is read (the border included), and the cell
+    /// size.
     fn origin_cell(&self) -> [f32; 4] {
-        let origin = self.origin - Vec3::splat(self.cell_size * LOOKUP_BORDER as f32);
+        let border = self.lattices.border() as f32;
+        let origin = self.origin - Vec3::splat(self.cell_size * border);
         [origin.x, origin.y, origin.z, self.cell_size]
     }
 
-    /// The images' size in texels.
-    fn image_dims(&self) -> [i32; 4] {
-        let [x, y, z, _] = self.dims.map(|d| d + 2 * LOOKUP_BORDER as i32);
+    /// The cells of what is read (the border included).
+    fn read_dims(&self) -> [i32; 4] {
+        let border = self.lattices.border() as i32;
+        let [x, y, z, _] = self.dims.map(|d| d + 2 * border);
         [x, y, z, 0]
     }
 }
@@ -153,12 +208,12 @@ impl LookupField<'_> {
 /// The fields' constants: `LOOKUP_FIELD_WORDS` words of four.
 type FieldWords = [[f32; 4]; ids::LOOKUP_FIELD_WORDS as usize];
 
-/// The fields' constants as `lpv/lookup_fields.glsl` reads them: per field the origin of its
-/// images and the cell size, the images' size, and (scale, offset). A one-field lookup repeats
+/// The fields' constants as `lpv/lookup_fields.glsl` reads them: per field the origin of what
+/// it reads and the cell size, the cells it reads, and (scale, offset). A one-field lookup repeats
 /// its field, which the shader leaves be.
 fn field_words(fields: &[LookupField]) -> FieldWords {
     let (near, far) = (&fields[0], &fields[fields.len() - 1]);
-    let dims = |f: &LookupField| f.image_dims().map(|d| f32::from_bits(d as u32));
+    let dims = |f: &LookupField| f.read_dims().map(|d| f32::from_bits(d as u32));
     [
         near.origin_cell(),
         far.origin_cell(),
@@ -195,8 +250,8 @@ struct HalfLookup {
     images: Vec<Option<Image>>,
 }
 
-/// The lookup's pipelines for a number of fields (1 or 2), its trilinear sampler and the buffer
-/// of the fields' constants.
+/// The lookup's pipelines for a number of fields (1 or 2) read one way, its trilinear sampler
+/// where it reads images, and the buffer of the fields' constants.
 pub struct Lookup {
     /// The lookup as a pass of its own (at half resolution, the upsample's).
     apart: RasterPipeline,
@@ -206,9 +261,11 @@ pub struct Lookup {
     lit: Option<(DirectShape, RasterPipeline)>,
     /// At half resolution, the lookup the upsample reads.
     half: Option<HalfLookup>,
-    /// Trilinear, clamped to the edge: the images' border of zero cells makes the outside
-    /// of the lattice transparent black (as if it were empty).
-    sampler: Sampler,
+    /// How the fields are read.
+    filter: LookupFilter,
+    /// With [`LookupFilter::Sampler`]: trilinear, clamped to the edge (the images' border of
+    /// zero cells makes the outside of the lattice transparent black, as if it were empty).
+    sampler: Option<Sampler>,
     /// The fields' constants (`field_words`), written once: a lattice's place, size and scale
     /// stay as built.
     words: Buffer,
@@ -218,7 +275,7 @@ pub struct Lookup {
 }
 
 impl Lookup {
-    /// The lookup of `fields` (one or two) in `scene`, at `resolution`.
+    /// The lookup of `fields` (one or two, read the same way) in `scene`, at `resolution`.
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
@@ -226,6 +283,12 @@ impl Lookup {
         resolution: LookupResolution,
     ) -> GpuResult<Lookup> {
         assert!(matches!(fields.len(), 1 | 2), "the lookup reads one or two fields");
+        let filter = fields[0].lattices.filter();
+        assert!(
+            fields.iter().all(|f| f.lattices.filter() == filter),
+            "the fields of one lookup are read the same way"
+        );
+        let texels = filter == LookupFilter::Texels;
         let written = field_words(fields);
         let count = fields.len();
         let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32);
@@ -234,12 +297,18 @@ impl Lookup {
             LookupResolution::Full => {
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
-                    fragment: shaders::GI_LPV_LIT_LOOKUP_FRAG,
+                    fragment: match texels {
+                        true => shaders::GI_LPV_LIT_LOOKUP_TEXELS_FRAG,
+                        false => shaders::GI_LPV_LIT_LOOKUP_FRAG,
+                    },
                 };
                 let lit = lit_pipeline(gpu, shape, LIT_LOOKUP, shaders, own)?;
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
-                    fragment: shaders::GI_LPV_LOOKUP_FRAG,
+                    fragment: match texels {
+                        true => shaders::GI_LPV_LOOKUP_TEXELS_FRAG,
+                        false => shaders::GI_LPV_LOOKUP_FRAG,
+                    },
                 };
                 let spec = own(Specialization::new());
                 let apart = full_screen_with(gpu, LOOKUP, shaders, HDR_FORMAT, Blend::Add, &spec)?;
@@ -261,7 +330,10 @@ impl Lookup {
                 )?;
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
-                    fragment: shaders::GI_LPV_LOOKUP_HALF_FRAG,
+                    fragment: match texels {
+                        true => shaders::GI_LPV_LOOKUP_HALF_TEXELS_FRAG,
+                        false => shaders::GI_LPV_LOOKUP_HALF_FRAG,
+                    },
                 };
                 let spec = own(Specialization::new());
                 let pipeline = full_screen_with(
@@ -283,20 +355,30 @@ impl Lookup {
             apart,
             lit,
             half,
-            sampler: gpu
-                .create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
+            filter,
+            sampler: match filter {
+                LookupFilter::Sampler => Some(
+                    gpu.create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
+                ),
+                LookupFilter::Texels => None,
+            },
             words: gpu.upload_storage("lookup fields", bytemuck::bytes_of(&written))?,
             written,
             fields: count,
         })
     }
 
-    /// A line for the profile: where the lookup evaluates the lattices.
+    /// A line for the profile: where the lookup evaluates the lattices, and how it reads them.
     pub fn describe(&self) -> String {
-        match self.half {
-            None => "lookup: at every pixel".to_string(),
-            Some(_) => "lookup: at half resolution (every second pixel in x and y), spread over the pixels by a depth- and normal-aware upsample".to_string(),
-        }
+        let resolution = match self.half {
+            None => "at every pixel",
+            Some(_) => "at half resolution (every second pixel in x and y), spread over the pixels by a depth- and normal-aware upsample",
+        };
+        let filter = match self.filter {
+            LookupFilter::Sampler => "3-D images filtered by the sampler",
+            LookupFilter::Texels => "the lattices read as texels and interpolated in the shader",
+        };
+        format!("lookup: {resolution}; {filter}")
     }
 
     /// Fit the lookup's per-view state to view `index` of `views`: at half resolution, its
@@ -334,17 +416,22 @@ impl Lookup {
             "the lookup was built for other fields"
         );
         // A one-field lookup binds its lattice in the far slots too; the shader leaves them be.
-        let [r, g, b] = fields[0].images;
-        let [far_r, far_g, far_b] = fields[fields.len() - 1].images;
-        vec![
-            Binding::sampled(ids::LOOKUP_LATTICE_R, r, &self.sampler),
-            Binding::sampled(ids::LOOKUP_LATTICE_G, g, &self.sampler),
-            Binding::sampled(ids::LOOKUP_LATTICE_B, b, &self.sampler),
-            Binding::sampled(ids::LOOKUP_FAR_LATTICE_R, far_r, &self.sampler),
-            Binding::sampled(ids::LOOKUP_FAR_LATTICE_G, far_g, &self.sampler),
-            Binding::sampled(ids::LOOKUP_FAR_LATTICE_B, far_b, &self.sampler),
-            Binding::read(ids::LOOKUP_FIELDS, &self.words),
-        ]
+        let near = [ids::LOOKUP_LATTICE_R, ids::LOOKUP_LATTICE_G, ids::LOOKUP_LATTICE_B];
+        let far = [ids::LOOKUP_FAR_LATTICE_R, ids::LOOKUP_FAR_LATTICE_G, ids::LOOKUP_FAR_LATTICE_B];
+        let mut bindings = Vec::with_capacity(7);
+        for (numbers, field) in [(near, &fields[0]), (far, &fields[fields.len() - 1])] {
+            for (c, number) in numbers.into_iter().enumerate() {
+                bindings.push(match (&field.lattices, &self.sampler) {
+                    (LatticeReads::Images(images), Some(sampler)) => {
+                        Binding::sampled(number, &images[c], sampler)
+                    }
+                    (LatticeReads::Texels(buffers), None) => Binding::texels(number, buffers[c]),
+                    _ => panic!("the lookup was built to read its fields another way"),
+                });
+            }
+        }
+        bindings.push(Binding::read(ids::LOOKUP_FIELDS, &self.words));
+        bindings
     }
 
     /// At half resolution, record the lookup of `fields` into view `index`'s quarter-size

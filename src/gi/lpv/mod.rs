@@ -20,5 +20,5 @@ pub mod visibility;
 pub mod void_side;
 
 pub use entry::METHODS;
-pub use lookup::LookupResolution;
+pub use lookup::{LookupFilter, LookupResolution};
 pub use technique::{Extinction, InjectToward, Injection, Kernel, Lpv, LpvSettings, Scheme};

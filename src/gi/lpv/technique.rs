@@ -11,7 +11,9 @@ use super::bindings as ids;
 use super::cost;
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
-use super::lookup::{LOOKUP_BORDER, Lookup, LookupField, LookupResolution, lookup_passes};
+use super::lookup::{
+    LOOKUP_BORDER, LatticeReads, Lookup, LookupField, LookupFilter, LookupResolution, lookup_passes,
+};
 use super::transfer::{FaceScheme, TransferVectors};
 use crate::error::InputError;
 use crate::gi::registry::Setup;
@@ -139,6 +141,8 @@ pub struct LpvSettings {
     pub lookup_offset: f32,
     /// Where the lookup evaluates the lattices: every pixel, or every fourth with an upsample.
     pub lookup_resolution: LookupResolution,
+    /// How the lookup reads the lattices (None: [`LookupFilter::for_device`]).
+    pub lookup_filter: Option<LookupFilter>,
     /// ILPV in two scales: the coarse far-field lattice (see [`super::two_scale`]).
     pub far_lattice: FarLattice,
     /// Two scales: steps per frame of the fine near-field lattice (at λ_incr 0).
@@ -239,6 +243,7 @@ impl Default for LpvSettings {
             injection: Injection::Float,
             lookup_offset: DEFAULT_LOOKUP_OFFSET,
             lookup_resolution: LookupResolution::Full,
+            lookup_filter: None,
             far_lattice: FarLattice::Auto,
             near_steps: DEFAULT_NEAR_STEPS,
             far_injection: DEFAULT_FAR_INJECTION,
@@ -539,10 +544,11 @@ pub struct Lpv {
     /// The lookup pass of a lattice looked up on its own (None: two scales look up both of
     /// theirs in one pass).
     lookup: Option<Lookup>,
-    /// What the lookup samples: per channel, a copy of its result lattice as a 3-D image inside
-    /// a border of `LOOKUP_BORDER` zero cells, read with the sampler's trilinear filter (one
-    /// fetch instead of eight gathered loads).
-    lookup_images: [Image; 3],
+    /// With [`LookupFilter::Sampler`], what the lookup samples: per channel, a copy of its
+    /// result lattice as a 3-D image inside a border of `LOOKUP_BORDER` zero cells, read with
+    /// the sampler's trilinear filter (one fetch instead of eight). None: the lookup reads the
+    /// result lattices as texels.
+    lookup_images: Option<[Image; 3]>,
     /// The reflective shadow maps it injects from (None: a far field reads its near field's).
     rsm: Option<Rsm>,
     /// The propagation pass's name in the profile.
@@ -601,6 +607,64 @@ pub fn fixed_point_scale(flux: [f64; 3]) -> f32 {
     2f64.powf(exponent) as f32
 }
 
+/// Refuse a lattice the lookup cannot read on this device with `filter`: one past the 3-D image
+/// size or without linear filtering of RGBA32F for the sampler, one past the texel-buffer size
+/// for texels.
+fn check_lookup_limits(gpu: &Gpu, filter: LookupFilter, lattice: &Lattice) -> anyhow::Result<()> {
+    let [x, y, z] = lattice.dims.to_array();
+    match filter {
+        LookupFilter::Sampler => {
+            let side = lattice.dims.max_element() + 2 * LOOKUP_BORDER;
+            if side > gpu.info.max_image_dimension_3d {
+                return Err(InputError::new(format!(
+                    "a {x}x{y}x{z} lattice exceeds the device's 3-D image limit of {} cells a side (the lookup samples the lattice as a 3-D image; --lookup-filter texels does not)",
+                    gpu.info.max_image_dimension_3d
+                ))
+                .into());
+            }
+            if !gpu.supports_format(
+                vk::Format::R32G32B32A32_SFLOAT,
+                vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR,
+            ) {
+                anyhow::bail!(
+                    "the LPV lookup filters RGBA32F 3-D images linearly, which this device cannot (no SAMPLED_IMAGE_FILTER_LINEAR for R32G32B32A32_SFLOAT; --lookup-filter texels does not)"
+                );
+            }
+        }
+        LookupFilter::Texels => {
+            let limit = gpu.info.max_texel_buffer_elements;
+            if lattice.cell_count() > limit as usize {
+                return Err(InputError::new(format!(
+                    "a {x}x{y}x{z} lattice exceeds the device's limit of {limit} texels in a texel buffer (the lookup reads the lattice as texels; --lookup-filter sampler does not)"
+                ))
+                .into());
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The lookup's 3-D images of a lattice (R, G, B) for the sampler, their border cleared to zero:
+/// every frame copies the lattice into the cells inside it.
+fn lookup_images(gpu: &Gpu, lattice: &Lattice) -> GpuResult<[Image; 3]> {
+    let image = |c: usize| {
+        gpu.create_image(&ImageDesc::new_3d(
+            &format!("lookup lattice {}", CHANNELS[c]),
+            vk::Format::R32G32B32A32_SFLOAT,
+            (lattice.dims + 2 * LOOKUP_BORDER).to_array(),
+            vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+        ))
+    };
+    let images = [image(0)?, image(1)?, image(2)?];
+    gpu.one_shot(|rec| {
+        for image in &images {
+            rec.clear_image("clear lookup lattice", image, [0.0; 4]);
+        }
+        Ok(())
+    })?;
+    Ok(images)
+}
+
 impl Lpv {
     /// One lattice of `settings` (whatever its `far_lattice`: two scales are
     /// [`super::two_scale::create`]'s).
@@ -624,7 +688,10 @@ impl Lpv {
     pub fn lookup_field(&self) -> LookupField<'_> {
         let cell = self.lattice.cell_size;
         LookupField {
-            images: &self.lookup_images,
+            lattices: match &self.lookup_images {
+                Some(images) => LatticeReads::Images(images),
+                None => LatticeReads::Texels(self.result_lattices()),
+            },
             origin: self.lattice.origin,
             cell_size: cell,
             dims: self.dims(),
@@ -671,25 +738,8 @@ impl Lpv {
             ))
             .into());
         }
-        let side = lattice.dims.max_element() + 2 * LOOKUP_BORDER;
-        if side > gpu.info.max_image_dimension_3d {
-            return Err(InputError::new(format!(
-                "a {}x{}x{} lattice exceeds the device's 3-D image limit of {} cells a side (the lookup samples the lattice as a 3-D image)",
-                lattice.dims.x,
-                lattice.dims.y,
-                lattice.dims.z,
-                gpu.info.max_image_dimension_3d
-            ))
-            .into());
-        }
-        if !gpu.supports_format(
-            vk::Format::R32G32B32A32_SFLOAT,
-            vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR,
-        ) {
-            anyhow::bail!(
-                "the LPV lookup filters RGBA32F 3-D images linearly, which this device cannot (no SAMPLED_IMAGE_FILTER_LINEAR for R32G32B32A32_SFLOAT)"
-            );
-        }
+        let lookup_filter = settings.lookup_filter.unwrap_or_else(|| LookupFilter::for_device(gpu));
+        check_lookup_limits(gpu, lookup_filter, &lattice)?;
         match settings.injection {
             Injection::Float if !gpu.info.shader_buffer_float32_atomic_add => anyhow::bail!(
                 "LPV injection with float atomics needs VK_EXT_shader_atomic_float, which this device lacks (--injection fixed does not)"
@@ -751,12 +801,14 @@ impl Lpv {
         };
         // The column kernel reads its sources (the lattices and the geometry) and the
         // accumulation as texel buffers.
+        // So does the lookup, with --lookup-filter texels.
         let texels = kernel.reads_texels();
+        let lattice_texels = texels || lookup_filter == LookupFilter::Texels;
         let storage = |name: &str, bytes: usize, texels: bool| match texels {
             true => gpu.create_buffer(&BufferDesc::storage_texels(name, bytes as u64)),
             false => gpu.create_buffer(&BufferDesc::storage(name, bytes as u64)),
         };
-        let lattice_buffer = |name: String| storage(&name, cells * 16, texels);
+        let lattice_buffer = |name: String| storage(&name, cells * 16, lattice_texels);
         let channel_pair = |c: usize| -> GpuResult<[Buffer; 2]> {
             Ok([
                 lattice_buffer(format!("lattice {} a", CHANNELS[c]))?,
@@ -764,22 +816,10 @@ impl Lpv {
             ])
         };
         let lattices = [channel_pair(0)?, channel_pair(1)?, channel_pair(2)?];
-        let lookup_image = |c: usize| {
-            gpu.create_image(&ImageDesc::new_3d(
-                &format!("lookup lattice {}", CHANNELS[c]),
-                vk::Format::R32G32B32A32_SFLOAT,
-                (lattice.dims + 2 * LOOKUP_BORDER).to_array(),
-                vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-            ))
+        let lookup_images = match lookup_filter {
+            LookupFilter::Sampler => Some(lookup_images(gpu, &lattice)?),
+            LookupFilter::Texels => None,
         };
-        let lookup_images = [lookup_image(0)?, lookup_image(1)?, lookup_image(2)?];
-        // The border stays zero: every frame copies the lattice into the cells inside it.
-        gpu.one_shot(|rec| {
-            for image in &lookup_images {
-                rec.clear_image("clear lookup lattice", image, [0.0; 4]);
-            }
-            Ok(())
-        })?;
         let fixed = match settings.injection {
             Injection::Float => None,
             Injection::Fixed => {
@@ -916,14 +956,17 @@ impl Lpv {
         }
     }
 
-    /// Copy channel `channel`'s looked-up lattice into the 3-D image the lookup samples, inside
-    /// its border.
+    /// With the sampler's lookup, copy channel `channel`'s looked-up lattice into the 3-D image
+    /// the lookup samples, inside its border.
     fn copy_to_lookup(&self, rec: &mut Recorder, channel: usize, result: usize) {
+        let Some(images) = &self.lookup_images else {
+            return;
+        };
         let border = LOOKUP_BORDER as i32;
         rec.copy_buffer_to_box(
             "lattice to lookup image",
             self.looked_up(channel, result),
-            &self.lookup_images[channel],
+            &images[channel],
             [border; 3],
             self.lattice.dims.to_array(),
         );
