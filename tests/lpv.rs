@@ -228,6 +228,44 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     common::assert_no_validation_errors(&gpu);
 }
 
+/// The column kernel's workgroups span a lattice's bundles along x (16x4 for 24 cells across,
+/// 32x2 for 40): the same bits as the tiled kernel, whose workgroups are tiles.
+#[test]
+fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
+        for lattice in [24, 40] {
+            let results = [Kernel::Tiled, Kernel::Column].map(|kernel| {
+                let settings = LpvSettings {
+                    scheme,
+                    lattice,
+                    iterations: 3,
+                    kernel: Some(kernel),
+                    channels: Some(ChannelPlan::Fused),
+                    ..LpvSettings::default()
+                };
+                let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
+                let cells = lpv.lattice.cell_count();
+                let starts = [1, 2, 3].map(|seed| to_f32(&random_lattice(cells, 1.0, seed)));
+                let lobe = BlockingLobe::TwoSided;
+                lpv.load_lattices(&gpu, &starts).unwrap();
+                lpv.load_geometry(&gpu, &random_geometry(lobe, cells, 0.6, 9))
+                    .unwrap();
+                gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
+                (lpv.lattice.dims, lpv.read_result(&gpu).unwrap())
+            });
+            let [(dims, tiled), (_, column)] = results;
+            assert!(dims.x >= 24, "{scheme:?} {lattice}: {dims}");
+            assert!(
+                tiled == column,
+                "{scheme:?} {dims}: the column kernel's bits differ"
+            );
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
 /// Propagate `start` (the same in R, G, B) one step at a time; returns the lattice after each.
 fn steps_on_gpu(
     gpu: &vkgi::gpu::Gpu,
@@ -1894,8 +1932,9 @@ fn assert_lookup_matches(gpu: &vkgi::gpu::Gpu, name: &str, fields: &[&Lpv], r: &
 }
 
 /// The lookup, reading the lattices either way (3-D copies the sampler filters, or the lattice
-/// buffers as texels interpolated in the shader), and two scales looking up both lattices in one
-/// pass: all against the f64 lookup of the same lattices and G-buffer. lavapipe filters with
+/// buffers as texels interpolated in the shader; the accumulation, and ILPV's final lattice,
+/// one of a ping-pong pair), and two scales looking up both lattices in one pass: all against
+/// the f64 lookup of the same lattices and G-buffer. lavapipe filters with
 /// float weights; a GPU's sampler has its subTexelPrecisionBits (8 on most), whose error this
 /// bound would not cover.
 #[test]
@@ -1908,18 +1947,17 @@ fn the_lookup_matches_an_f64_lookup_of_the_same_lattices_with_one_and_two_scales
             lookup_filter: Some(filter),
             ..ilpv(10)
         };
-        let one = LpvSettings {
-            far_lattice: FarLattice::Off,
-            ..settings
-        };
-        let mut single = Lpv::new(&setup, one).unwrap();
-        let rendered = render_indirect(&gpu, &scene, &mut single);
-        assert_lookup_matches(
-            &gpu,
-            &format!("one lattice, {filter:?}"),
-            &[&single],
-            &rendered,
-        );
+        for ilpv_lookup in [IlpvLookup::Accumulated, IlpvLookup::Final] {
+            let one = LpvSettings {
+                far_lattice: FarLattice::Off,
+                ilpv_lookup,
+                ..settings.clone()
+            };
+            let mut single = Lpv::new(&setup, one).unwrap();
+            let rendered = render_indirect(&gpu, &scene, &mut single);
+            let name = format!("one lattice, {filter:?}, {ilpv_lookup:?}");
+            assert_lookup_matches(&gpu, &name, &[&single], &rendered);
+        }
         let mut two = two_scale::TwoScale::new(&setup, settings, 5).unwrap();
         let rendered = render_indirect(&gpu, &scene, &mut two);
         let name = format!("two scales, {filter:?}");
@@ -2023,15 +2061,17 @@ fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
         ("cornell under a point light", point_lit, false),
     ];
     for (name, scene, fragment_form) in &scenes {
-        for (scheme, indirect_only) in [
-            (Scheme::Ilpv, false),
-            (Scheme::Lpv, false),
-            (Scheme::Ilpv, true),
+        for (scheme, indirect_only, lookup_filter) in [
+            (Scheme::Ilpv, false, LookupFilter::Texels),
+            (Scheme::Lpv, false, LookupFilter::Texels),
+            (Scheme::Ilpv, true, LookupFilter::Texels),
+            (Scheme::Ilpv, false, LookupFilter::Sampler),
         ] {
             let settings = LpvSettings {
                 scheme,
                 injection: Injection::Fixed,
                 rsm: 64,
+                lookup_filter: Some(lookup_filter),
                 ..LpvSettings::default()
             };
             let run = |lookup_apart: bool| {
@@ -2049,7 +2089,8 @@ fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
             let (inside, inside_ldr, inside_passes) = run(false);
             let (apart, apart_ldr, apart_passes) = run(true);
             let has = |passes: &[String], pass: &str| passes.iter().any(|p| p == pass);
-            let case = format!("{name}, {scheme:?}, indirect only {indirect_only}");
+            let case =
+                format!("{name}, {scheme:?}, indirect only {indirect_only}, {lookup_filter:?}");
             assert_eq!(
                 has(&inside_passes, LIT),
                 *fragment_form,
@@ -2095,10 +2136,11 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
     use vkgi::gi::lpv::{Injection, LookupResolution};
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
-    for (scheme, (width, height)) in [
-        (Scheme::Ilpv, (40u32, 30u32)),
-        (Scheme::Lpv, (40, 30)),
-        (Scheme::Ilpv, (41, 31)),
+    for (scheme, (width, height), lookup_filter) in [
+        (Scheme::Ilpv, (40u32, 30u32), LookupFilter::Texels),
+        (Scheme::Lpv, (40, 30), LookupFilter::Texels),
+        (Scheme::Ilpv, (41, 31), LookupFilter::Texels),
+        (Scheme::Ilpv, (40, 30), LookupFilter::Sampler),
     ] {
         let run = |resolution: LookupResolution, lookup_apart: bool| {
             let options = vkgi::render::FrameOptions {
@@ -2113,6 +2155,7 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
                 injection: Injection::Fixed,
                 rsm: 64,
                 lookup_resolution: resolution,
+                lookup_filter: Some(lookup_filter),
                 ..LpvSettings::default()
             };
             let (frame, passes) = three_frames(&gpu, &scene, options, settings);
@@ -2122,7 +2165,7 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
         let (frame, full, _) = run(LookupResolution::Full, false);
         let (_, half, half_passes) = run(LookupResolution::Half, false);
         let (_, half_apart, apart_passes) = run(LookupResolution::Half, true);
-        let case = format!("{scheme:?} {width}x{height}");
+        let case = format!("{scheme:?} {width}x{height} {lookup_filter:?}");
         for pass in [
             "lpv half-resolution lookup",
             "direct lighting + lpv upsample",

@@ -71,11 +71,11 @@ mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, fl
     [[unroll]] for (int k = 0; k < 2; ++k) {
         [[unroll]] for (int j = 0; j < 2; ++j) {
             [[unroll]] for (int i = 0; i < 2; ++i) {
-                int cell = z[k] + y[j] + x[i];
+                int index = z[k] + y[j] + x[i];
                 float w = wz[k] * wy[j] * wx[i];
-                sum[0] += w * texelFetch(r, cell);
-                sum[1] += w * texelFetch(g, cell);
-                sum[2] += w * texelFetch(b, cell);
+                sum[0] += w * texelFetch(r, index);
+                sum[1] += w * texelFetch(g, index);
+                sum[2] += w * texelFetch(b, index);
             }
         }
     }

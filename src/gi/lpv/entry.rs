@@ -340,7 +340,8 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         lookup_filter: match s.has("lookup-filter").then(|| s.text("lookup-filter")).transpose()? {
             Some("sampler") => Some(LookupFilter::Sampler),
             Some("texels") => Some(LookupFilter::Texels),
-            _ => defaults.lookup_filter,
+            Some(_) => None,
+            None => defaults.lookup_filter,
         },
         far_lattice: match s.has("far-lattice").then(|| s.text("far-lattice")).transpose()? {
             Some(text) => far_lattice(text)?,

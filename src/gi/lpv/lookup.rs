@@ -177,6 +177,7 @@ pub const LOOKUP_BORDER: u32 = 1;
 
 /// One lattice as the lookup reads it.
 pub struct LookupField<'a> {
+    /// The R, G and B lattices, as its lookup's filter reads them.
     pub lattices: LatticeReads<'a>,
     /// The corner of the lattice's cell (0, 0, 0).
     pub origin: Vec3,

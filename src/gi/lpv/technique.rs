@@ -437,7 +437,7 @@ const COLUMN_MIN_WORKGROUPS: u32 = 8;
 /// The workgroup of the column kernel for a lattice of `dims`: [`COLUMN_THREADS`] threads
 /// spanning as many bundles along x as the lattice has (a power of two from 8 to
 /// [`COLUMN_GROUP_WIDEST`]), so that in each plane its SIMD batches read long runs of
-/// contiguous cells (on lavapipe a 64³ lattice's step takes 13-15% less time than in
+/// contiguous cells (on lavapipe a 64³ lattice's step takes 12-18% less time than in
 /// workgroups of 8x8; docs/performance.md).
 pub fn column_group(dims: [u32; 3]) -> [u32; 3] {
     let x = column_bundles(dims)[0].next_power_of_two().clamp(8, COLUMN_GROUP_WIDEST);
@@ -622,8 +622,14 @@ pub fn fixed_point_scale(flux: [f64; 3]) -> f32 {
 
 /// Refuse a lattice the lookup cannot read on this device with `filter`: one past the 3-D image
 /// size or without linear filtering of RGBA32F for the sampler, one past the texel-buffer size
-/// for texels.
-fn check_lookup_limits(gpu: &Gpu, filter: LookupFilter, lattice: &Lattice) -> anyhow::Result<()> {
+/// for texels. `kernel_texels`: the propagation reads the lattices as texels too (then the
+/// sampler does not lift the texel-buffer limit).
+fn check_lookup_limits(
+    gpu: &Gpu,
+    filter: LookupFilter,
+    lattice: &Lattice,
+    kernel_texels: bool,
+) -> anyhow::Result<()> {
     let [x, y, z] = lattice.dims.to_array();
     match filter {
         LookupFilter::Sampler => {
@@ -647,8 +653,12 @@ fn check_lookup_limits(gpu: &Gpu, filter: LookupFilter, lattice: &Lattice) -> an
         LookupFilter::Texels => {
             let limit = gpu.info.max_texel_buffer_elements;
             if lattice.cell_count() > limit as usize {
+                let instead = match kernel_texels {
+                    true => "--lookup-filter sampler with --kernel tiled does not",
+                    false => "--lookup-filter sampler does not",
+                };
                 return Err(InputError::new(format!(
-                    "a {x}x{y}x{z} lattice exceeds the device's limit of {limit} texels in a texel buffer (the lookup reads the lattice as texels; --lookup-filter sampler does not)"
+                    "a {x}x{y}x{z} lattice exceeds the device's limit of {limit} texels in a texel buffer (the lookup reads the lattice as texels; {instead})"
                 ))
                 .into());
             }
@@ -659,7 +669,7 @@ fn check_lookup_limits(gpu: &Gpu, filter: LookupFilter, lattice: &Lattice) -> an
 
 /// The lookup's 3-D images of a lattice (R, G, B) for the sampler, their border cleared to zero:
 /// every frame copies the lattice into the cells inside it.
-fn lookup_images(gpu: &Gpu, lattice: &Lattice) -> GpuResult<[Image; 3]> {
+fn create_lookup_images(gpu: &Gpu, lattice: &Lattice) -> GpuResult<[Image; 3]> {
     let image = |c: usize| {
         gpu.create_image(&ImageDesc::new_3d(
             &format!("lookup lattice {}", CHANNELS[c]),
@@ -752,7 +762,7 @@ impl Lpv {
             .into());
         }
         let lookup_filter = settings.lookup_filter.unwrap_or_else(|| LookupFilter::for_device(gpu));
-        check_lookup_limits(gpu, lookup_filter, &lattice)?;
+        check_lookup_limits(gpu, lookup_filter, &lattice, kernel.reads_texels())?;
         match settings.injection {
             Injection::Float if !gpu.info.shader_buffer_float32_atomic_add => anyhow::bail!(
                 "LPV injection with float atomics needs VK_EXT_shader_atomic_float, which this device lacks (--injection fixed does not)"
@@ -830,7 +840,7 @@ impl Lpv {
         };
         let lattices = [channel_pair(0)?, channel_pair(1)?, channel_pair(2)?];
         let lookup_images = match lookup_filter {
-            LookupFilter::Sampler => Some(lookup_images(gpu, &lattice)?),
+            LookupFilter::Sampler => Some(create_lookup_images(gpu, &lattice)?),
             LookupFilter::Texels => None,
         };
         let fixed = match settings.injection {
