@@ -191,6 +191,12 @@ pub struct ConservativeRasterization {
 }
 
 impl DeviceInfo {
+    /// Whether the device runs on the CPU (lavapipe): where the choices made per device type
+    /// (the reference tracer, the LPV lookup's filter) take their CPU side.
+    pub fn is_cpu(&self) -> bool {
+        self.device_type == vk::PhysicalDeviceType::CPU
+    }
+
     pub fn type_name(&self) -> &'static str {
         match self.device_type {
             vk::PhysicalDeviceType::DISCRETE_GPU => "discrete GPU",

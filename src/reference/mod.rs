@@ -90,7 +90,7 @@ impl Tracer {
     /// Whether this choice traces on the CPU when `gpu` is the Vulkan device.
     pub fn on_cpu(self, gpu: &Gpu) -> bool {
         match self {
-            Tracer::Auto => gpu.info.device_type == vk::PhysicalDeviceType::CPU,
+            Tracer::Auto => gpu.info.is_cpu(),
             Tracer::Gpu => false,
             Tracer::Cpu => true,
         }

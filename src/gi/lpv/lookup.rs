@@ -137,7 +137,7 @@ impl LookupFilter {
     /// `--lookup-filter auto`: texels on a CPU device, whose sampler filters in software, and the
     /// sampler on a GPU.
     pub fn for_device(gpu: &Gpu) -> LookupFilter {
-        match gpu.info.device_type == vk::PhysicalDeviceType::CPU {
+        match gpu.info.is_cpu() {
             true => LookupFilter::Texels,
             false => LookupFilter::Sampler,
         }
