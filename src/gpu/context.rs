@@ -11,6 +11,7 @@ use std::sync::{Arc, Mutex};
 use ash::vk;
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 
+use super::pass::queue_stages;
 use super::{GpuError, GpuResult, vk_err};
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
@@ -66,6 +67,8 @@ pub struct Queue {
     pub index: u32,
     /// Bits of a timestamp that are meaningful on this queue's family; 0 = no timestamps.
     pub timestamp_valid_bits: u32,
+    /// The pipeline stages its family runs (`pass::queue_stages`), which its barriers may name.
+    pub stages: vk::PipelineStageFlags2,
 }
 
 impl Queue {
@@ -801,6 +804,7 @@ fn create_device(
         family,
         index,
         timestamp_valid_bits: families[family as usize].timestamp_valid_bits,
+        stages: queue_stages(families[family as usize].queue_flags),
     };
     let plan = QueuePlan {
         graphics: queue(graphics_family, 0),

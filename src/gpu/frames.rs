@@ -251,7 +251,7 @@ impl FrameBuilder<'_> {
         } else {
             self.ring.profiler.frame_queries(slot)
         };
-        let mut recorder = Recorder::new(gpu, cmd, queue.family, timer);
+        let mut recorder = Recorder::new(gpu, cmd, queue, timer);
         if self.first_part {
             let previous = recorder.set_context(ScopeTag {
                 stage: Stage::Frame,
@@ -446,7 +446,7 @@ impl Gpu {
                     // SAFETY: the command buffer is in the initial state (its pool was just reset).
                     unsafe { device.begin_command_buffer(cmd, &begin) }
                         .map_err(vk_err("beginning a one-shot command buffer"))?;
-                    let mut recorder = Recorder::new(self, cmd, self.queues.graphics.family, None);
+                    let mut recorder = Recorder::new(self, cmd, &self.queues.graphics, None);
                     let recorded = record(&mut recorder);
                     // SAFETY: ends the recording begun above.
                     let ended = unsafe { device.end_command_buffer(cmd) };

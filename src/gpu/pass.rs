@@ -6,7 +6,7 @@
 
 use ash::vk;
 
-use super::context::Gpu;
+use super::context::{Gpu, Queue};
 use super::memory::{Buffer, Image, SyncState};
 use super::pipeline::{ComputePipeline, PipelineCore, RasterPipeline};
 use super::profiler::FrameQueries;
@@ -107,6 +107,7 @@ fn transition(
     state: &mut SyncState,
     access: Access,
     is_image: bool,
+    queue_stages: vk::PipelineStageFlags2,
 ) -> Option<(
     vk::PipelineStageFlags2,
     vk::AccessFlags2,
@@ -118,8 +119,12 @@ fn transition(
     let old_layout = state.layout;
     let layout_change = is_image && state.layout != layout;
     if access.writes() || layout_change {
-        let src_stage = state.write_stage | state.read_stages;
-        let src_access = state.write_access;
+        let (src_stage, src_access) = source_on_queue(
+            state.write_stage | state.read_stages,
+            state.write_stage,
+            state.write_access,
+            queue_stages,
+        );
         *state = SyncState {
             layout: if is_image {
                 layout
@@ -148,16 +153,66 @@ fn transition(
     if state.read_stages.contains(stage) && state.read_access.contains(mask) {
         return None;
     }
-    let barrier = (!state.write_stage.is_empty()).then_some((
+    let (src_stage, src_access) = source_on_queue(
+        state.write_stage,
         state.write_stage,
         state.write_access,
-        stage,
-        mask,
-        old_layout,
-    ));
+        queue_stages,
+    );
+    let barrier =
+        (!src_stage.is_empty()).then_some((src_stage, src_access, stage, mask, old_layout));
     state.read_stages |= stage;
     state.read_access |= mask;
     barrier
+}
+
+/// The pipeline stages a barrier recorded on a queue of a family with `flags` may name: a family
+/// without graphics (a dedicated async compute family) runs no vertex, fragment or attachment
+/// stage, and one without compute no compute shader.
+pub fn queue_stages(flags: vk::QueueFlags) -> vk::PipelineStageFlags2 {
+    use vk::PipelineStageFlags2 as S;
+    let mut stages = S::from_raw(u64::MAX);
+    if !flags.contains(vk::QueueFlags::GRAPHICS) {
+        stages &= !(S::VERTEX_INPUT
+            | S::INDEX_INPUT
+            | S::VERTEX_ATTRIBUTE_INPUT
+            | S::VERTEX_SHADER
+            | S::TESSELLATION_CONTROL_SHADER
+            | S::TESSELLATION_EVALUATION_SHADER
+            | S::GEOMETRY_SHADER
+            | S::PRE_RASTERIZATION_SHADERS
+            | S::FRAGMENT_SHADER
+            | S::EARLY_FRAGMENT_TESTS
+            | S::LATE_FRAGMENT_TESTS
+            | S::COLOR_ATTACHMENT_OUTPUT
+            | S::ALL_GRAPHICS
+            | S::BLIT
+            | S::RESOLVE);
+    }
+    if !flags.contains(vk::QueueFlags::COMPUTE) {
+        stages &= !S::COMPUTE_SHADER;
+    }
+    stages
+}
+
+/// A barrier's source: `stages` (the last write's stage `write_stage`, with its access
+/// `write_access`, and any reads since), as a queue that runs only `queue_stages` may name them.
+/// A resource's last accesses may have run on another queue (the lookup's fragment shader reads
+/// a lattice on the graphics queue that an async compute queue writes in the next frame): the
+/// semaphore the part waits on orders those and makes their writes visible, and a barrier naming
+/// their stages would be invalid on this queue, so they leave it, and with the write's stage its
+/// access.
+fn source_on_queue(
+    stages: vk::PipelineStageFlags2,
+    write_stage: vk::PipelineStageFlags2,
+    write_access: vk::AccessFlags2,
+    queue_stages: vk::PipelineStageFlags2,
+) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
+    let access = match (write_stage & queue_stages).is_empty() {
+        true => vk::AccessFlags2::NONE,
+        false => write_access,
+    };
+    (stages & queue_stages, access)
 }
 
 /// A resource a pass binds, with what the pass does to it.
@@ -327,6 +382,8 @@ pub struct Recorder<'a> {
     gpu: &'a Gpu,
     cmd: vk::CommandBuffer,
     family: u32,
+    /// The stages the queue's family runs ([`queue_stages`]): the only ones its barriers name.
+    stages: vk::PipelineStageFlags2,
     timer: Option<&'a mut FrameQueries>,
     context: ScopeTag,
 }
@@ -335,13 +392,14 @@ impl<'a> Recorder<'a> {
     pub fn new(
         gpu: &'a Gpu,
         cmd: vk::CommandBuffer,
-        family: u32,
+        queue: &Queue,
         timer: Option<&'a mut FrameQueries>,
     ) -> Self {
         Recorder {
             gpu,
             cmd,
-            family,
+            family: queue.family,
+            stages: queue.stages,
             timer,
             context: ScopeTag::default(),
         }
@@ -447,7 +505,9 @@ impl<'a> Recorder<'a> {
             match resource {
                 Resource::Buffer(buffer) => {
                     let mut state = buffer.sync.get();
-                    if let Some((ss, sa, ds, da, _)) = transition(&mut state, *access, false) {
+                    if let Some((ss, sa, ds, da, _)) =
+                        transition(&mut state, *access, false, self.stages)
+                    {
                         buffer_barriers.push(
                             vk::BufferMemoryBarrier2::default()
                                 .src_stage_mask(ss)
@@ -465,7 +525,9 @@ impl<'a> Recorder<'a> {
                 }
                 Resource::Image(image) => {
                     let mut state = image.sync.get();
-                    if let Some((ss, sa, ds, da, old)) = transition(&mut state, *access, true) {
+                    if let Some((ss, sa, ds, da, old)) =
+                        transition(&mut state, *access, true, self.stages)
+                    {
                         image_barriers.push(
                             vk::ImageMemoryBarrier2::default()
                                 .src_stage_mask(ss)
@@ -1214,6 +1276,13 @@ fn blit_region(from: [i32; 4], to: [i32; 4]) -> vk::ImageBlit {
 mod tests {
     use super::*;
 
+    /// What a graphics and compute family runs, and a dedicated async compute family.
+    const GRAPHICS_QUEUE: vk::PipelineStageFlags2 = vk::PipelineStageFlags2::from_raw(u64::MAX);
+
+    fn compute_queue() -> vk::PipelineStageFlags2 {
+        queue_stages(vk::QueueFlags::COMPUTE | vk::QueueFlags::TRANSFER)
+    }
+
     type Barrier = (
         vk::PipelineStageFlags2,
         vk::AccessFlags2,
@@ -1224,7 +1293,7 @@ mod tests {
 
     /// The barrier `access` needs; fails the test if it needs none.
     fn barrier(state: &mut SyncState, access: Access, is_image: bool) -> Barrier {
-        match transition(state, access, is_image) {
+        match transition(state, access, is_image, GRAPHICS_QUEUE) {
             Some(b) => b,
             None => panic!("{access:?} needs a barrier"),
         }
@@ -1238,14 +1307,14 @@ mod tests {
         let raw = barrier(&mut s, Access::ComputeRead, false);
         assert_eq!(raw.0, vk::PipelineStageFlags2::COMPUTE_SHADER);
         assert!(raw.1.contains(vk::AccessFlags2::SHADER_STORAGE_WRITE));
-        assert!(transition(&mut s, Access::ComputeRead, false).is_none());
+        assert!(transition(&mut s, Access::ComputeRead, false, GRAPHICS_QUEUE).is_none());
     }
 
     #[test]
     fn write_after_read_waits_on_the_readers() {
         let mut s = SyncState::default();
-        transition(&mut s, Access::TransferWrite, false);
-        transition(&mut s, Access::GraphicsRead, false);
+        transition(&mut s, Access::TransferWrite, false, GRAPHICS_QUEUE);
+        transition(&mut s, Access::GraphicsRead, false, GRAPHICS_QUEUE);
         let war = barrier(&mut s, Access::ComputeWrite, false);
         assert!(war.0.contains(vk::PipelineStageFlags2::VERTEX_SHADER));
         assert!(war.0.contains(vk::PipelineStageFlags2::ALL_TRANSFER));
@@ -1268,10 +1337,69 @@ mod tests {
     #[test]
     fn a_new_reader_stage_waits_on_the_last_write() {
         let mut s = SyncState::default();
-        transition(&mut s, Access::ComputeWrite, false);
-        transition(&mut s, Access::ComputeRead, false);
+        transition(&mut s, Access::ComputeWrite, false, GRAPHICS_QUEUE);
+        transition(&mut s, Access::ComputeRead, false, GRAPHICS_QUEUE);
         let t = barrier(&mut s, Access::TransferRead, false);
         assert_eq!(t.0, vk::PipelineStageFlags2::COMPUTE_SHADER);
-        assert!(transition(&mut s, Access::TransferRead, false).is_none());
+        assert!(transition(&mut s, Access::TransferRead, false, GRAPHICS_QUEUE).is_none());
+    }
+
+    #[test]
+    fn a_compute_family_runs_no_graphics_stage() {
+        use vk::PipelineStageFlags2 as S;
+        let all = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE | vk::QueueFlags::TRANSFER;
+        assert_eq!(queue_stages(all), GRAPHICS_QUEUE);
+        let compute = compute_queue();
+        for stage in [
+            S::COMPUTE_SHADER,
+            S::ALL_TRANSFER,
+            S::HOST,
+            S::DRAW_INDIRECT,
+        ] {
+            assert!(compute.contains(stage), "{stage:?}");
+        }
+        for stage in [
+            S::VERTEX_SHADER,
+            S::FRAGMENT_SHADER,
+            S::COLOR_ATTACHMENT_OUTPUT,
+            S::EARLY_FRAGMENT_TESTS,
+            S::LATE_FRAGMENT_TESTS,
+        ] {
+            assert!(!compute.intersects(stage), "{stage:?}");
+        }
+    }
+
+    #[test]
+    fn a_compute_queue_barrier_names_only_its_own_stages() {
+        use vk::PipelineStageFlags2 as S;
+        // Written and read by compute on this queue, read by a fragment shader on the graphics
+        // queue, then written here again: the write waits on the compute read only.
+        let mut s = SyncState::default();
+        transition(&mut s, Access::ComputeWrite, false, compute_queue());
+        transition(&mut s, Access::ComputeRead, false, compute_queue());
+        transition(&mut s, Access::GraphicsSampled, false, GRAPHICS_QUEUE);
+        let war = transition(&mut s, Access::ComputeWrite, false, compute_queue()).unwrap();
+        assert_eq!(war.0, S::COMPUTE_SHADER);
+        assert!(war.1.contains(vk::AccessFlags2::SHADER_STORAGE_WRITE));
+
+        // Written by a fragment shader on the graphics queue: a compute read here has nothing of
+        // this queue's to wait on (the semaphore orders it), a compute write waits on no stage
+        // and makes no access available.
+        let mut s = SyncState::default();
+        transition(&mut s, Access::GraphicsWrite, false, GRAPHICS_QUEUE);
+        assert!(transition(&mut s, Access::ComputeRead, false, compute_queue()).is_none());
+        let mut s = SyncState::default();
+        transition(&mut s, Access::ColorAttachment, true, GRAPHICS_QUEUE);
+        let waw = transition(&mut s, Access::ComputeWrite, true, compute_queue()).unwrap();
+        assert_eq!((waw.0, waw.1), (S::NONE, vk::AccessFlags2::NONE));
+        assert_eq!(
+            waw.4,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            "the layout still changes"
+        );
+
+        // The graphics queue runs compute too: there a compute write is waited on.
+        let raw = transition(&mut s, Access::GraphicsSampled, true, GRAPHICS_QUEUE).unwrap();
+        assert_eq!(raw.0, S::COMPUTE_SHADER);
     }
 }
