@@ -866,11 +866,11 @@ impl Lpv {
             lattice_buffer("accumulation G".into())?,
             lattice_buffer("accumulation B".into())?,
         ];
-        let injected = [
-            lattice_buffer("kept injection R".into())?,
-            lattice_buffer("kept injection G".into())?,
-            lattice_buffer("kept injection B".into())?,
-        ];
+        // Only copied to and from the lattices: no texel view.
+        let kept_injection = |c: usize| {
+            storage(&format!("kept injection {}", CHANNELS[c]), cells * 16, false)
+        };
+        let injected = [kept_injection(0)?, kept_injection(1)?, kept_injection(2)?];
         let geometry_f32 = geometry_cells.to_f32();
         let neighbours: Vec<GpuNeighbour> = transfer
             .neighbours
