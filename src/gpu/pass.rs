@@ -153,8 +153,9 @@ fn transition(
     if state.read_stages.contains(stage) && state.read_access.contains(mask) {
         return None;
     }
+    // A write on another queue (none of this queue's stages) is the semaphore's to order.
     let (src_stage, src_access) = source_on_queue(
-        state.write_stage,
+        state.write_stage & queue_stages,
         state.write_stage,
         state.write_access,
         queue_stages,
@@ -185,9 +186,7 @@ pub fn queue_stages(flags: vk::QueueFlags) -> vk::PipelineStageFlags2 {
             | S::EARLY_FRAGMENT_TESTS
             | S::LATE_FRAGMENT_TESTS
             | S::COLOR_ATTACHMENT_OUTPUT
-            | S::ALL_GRAPHICS
-            | S::BLIT
-            | S::RESOLVE);
+            | S::ALL_GRAPHICS);
     }
     if !flags.contains(vk::QueueFlags::COMPUTE) {
         stages &= !S::COMPUTE_SHADER;
@@ -201,18 +200,27 @@ pub fn queue_stages(flags: vk::QueueFlags) -> vk::PipelineStageFlags2 {
 /// a lattice on the graphics queue that an async compute queue writes in the next frame): the
 /// semaphore the part waits on orders those and makes their writes visible, and a barrier naming
 /// their stages would be invalid on this queue, so they leave it, and with the write's stage its
-/// access.
+/// access (every access's stages are all graphics or none, so a kept access keeps its stages).
+/// Where none is left the source is every command, so that a layout change still waits for the
+/// semaphore's wait (whose stage is every command) rather than for nothing.
 fn source_on_queue(
     stages: vk::PipelineStageFlags2,
     write_stage: vk::PipelineStageFlags2,
     write_access: vk::AccessFlags2,
     queue_stages: vk::PipelineStageFlags2,
 ) -> (vk::PipelineStageFlags2, vk::AccessFlags2) {
+    let kept = stages & queue_stages;
+    if kept.is_empty() && !stages.is_empty() {
+        return (
+            vk::PipelineStageFlags2::ALL_COMMANDS,
+            vk::AccessFlags2::NONE,
+        );
+    }
     let access = match (write_stage & queue_stages).is_empty() {
         true => vk::AccessFlags2::NONE,
         false => write_access,
     };
-    (stages & queue_stages, access)
+    (kept, access)
 }
 
 /// A resource a pass binds, with what the pass does to it.
@@ -1391,7 +1399,7 @@ mod tests {
         let mut s = SyncState::default();
         transition(&mut s, Access::ColorAttachment, true, GRAPHICS_QUEUE);
         let waw = transition(&mut s, Access::ComputeWrite, true, compute_queue()).unwrap();
-        assert_eq!((waw.0, waw.1), (S::NONE, vk::AccessFlags2::NONE));
+        assert_eq!((waw.0, waw.1), (S::ALL_COMMANDS, vk::AccessFlags2::NONE));
         assert_eq!(
             waw.4,
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
