@@ -30,7 +30,8 @@ use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
 use super::technique::{
-    ChannelPlan, Field, Kernel, Lpv, LpvSettings, compensate_spirv, propagation_spirv,
+    ChannelPlan, Field, Kernel, Lpv, LpvSettings, column_shape, compensate_spirv,
+    propagation_spirv,
 };
 use crate::gi::registry::Setup;
 
@@ -215,12 +216,13 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
             crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | {candidates:?} | {spirv:016x} | {TIMED}",
+        "{} | {} | {:?} | lattice {} | {} words | {candidates:?} | {spirv:016x} | {} | {TIMED}",
         info.name,
         info.driver,
         settings.scheme,
         settings.lattice,
-        settings.blocking_lobe.words_per_cell()
+        settings.blocking_lobe.words_per_cell(),
+        column_shape()
     )
 }
 

@@ -455,6 +455,15 @@ pub fn column_cells(dims: [u32; 3]) -> u32 {
     dims[2].div_ceil(pieces)
 }
 
+/// The column kernels' shape, for the autotune's cache key: a change to the bundle, the
+/// workgroup or the split of a column makes the cached timings stale, as a change to their
+/// SPIR-V does.
+pub fn column_shape() -> String {
+    format!(
+        "column bundles {COLUMN_BUNDLE}x{COLUMN_BUNDLE}, {COLUMN_THREADS} threads up to {COLUMN_GROUP_WIDEST} wide, {COLUMN_MIN_WORKGROUPS} workgroups at least"
+    )
+}
+
 /// Bundles of columns a column kernel's threads take across x and y of a lattice of `dims`.
 fn column_bundles(dims: [u32; 3]) -> [u32; 2] {
     [dims[0].div_ceil(COLUMN_BUNDLE), dims[1].div_ceil(COLUMN_BUNDLE)]
