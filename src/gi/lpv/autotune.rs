@@ -21,8 +21,9 @@
 //! `kernels.json` in vkgi's cache folder (`$VKGI_CACHE_DIR`, else `$XDG_CACHE_HOME/vkgi`, else
 //! `~/.cache/vkgi`), keyed by the device, its driver, the scheme, the lattice size (small
 //! lattices favour tiles: a column kernel there has one-cell columns), the geometry words, the
-//! candidates and their SPIR-V, so later runs skip the measurement and a new build or driver
-//! measures again. A cache that cannot be read or written is measured around.
+//! candidates, their SPIR-V and the column kernels' shape (`column_shape`: bundle, workgroup,
+//! split of a column), so later runs skip the measurement and a new build or driver measures
+//! again. A cache that cannot be read or written is measured around.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
