@@ -1299,9 +1299,19 @@ mod tests {
         vk::ImageLayout,
     );
 
-    /// The barrier `access` needs; fails the test if it needs none.
+    /// The barrier `access` needs on the graphics queue; fails the test if it needs none.
     fn barrier(state: &mut SyncState, access: Access, is_image: bool) -> Barrier {
-        match transition(state, access, is_image, GRAPHICS_QUEUE) {
+        barrier_on(state, access, is_image, GRAPHICS_QUEUE)
+    }
+
+    /// The barrier `access` needs on a queue running `queue`; fails the test if it needs none.
+    fn barrier_on(
+        state: &mut SyncState,
+        access: Access,
+        is_image: bool,
+        queue: vk::PipelineStageFlags2,
+    ) -> Barrier {
+        match transition(state, access, is_image, queue) {
             Some(b) => b,
             None => panic!("{access:?} needs a barrier"),
         }
@@ -1386,7 +1396,7 @@ mod tests {
         transition(&mut s, Access::ComputeWrite, false, compute_queue());
         transition(&mut s, Access::ComputeRead, false, compute_queue());
         transition(&mut s, Access::GraphicsSampled, false, GRAPHICS_QUEUE);
-        let war = transition(&mut s, Access::ComputeWrite, false, compute_queue()).unwrap();
+        let war = barrier_on(&mut s, Access::ComputeWrite, false, compute_queue());
         assert_eq!(war.0, S::COMPUTE_SHADER);
         assert!(war.1.contains(vk::AccessFlags2::SHADER_STORAGE_WRITE));
 
@@ -1398,7 +1408,7 @@ mod tests {
         assert!(transition(&mut s, Access::ComputeRead, false, compute_queue()).is_none());
         let mut s = SyncState::default();
         transition(&mut s, Access::ColorAttachment, true, GRAPHICS_QUEUE);
-        let waw = transition(&mut s, Access::ComputeWrite, true, compute_queue()).unwrap();
+        let waw = barrier_on(&mut s, Access::ComputeWrite, true, compute_queue());
         assert_eq!((waw.0, waw.1), (S::ALL_COMMANDS, vk::AccessFlags2::NONE));
         assert_eq!(
             waw.4,
@@ -1407,7 +1417,7 @@ mod tests {
         );
 
         // The graphics queue runs compute too: there a compute write is waited on.
-        let raw = transition(&mut s, Access::GraphicsSampled, true, GRAPHICS_QUEUE).unwrap();
+        let raw = barrier(&mut s, Access::GraphicsSampled, true);
         assert_eq!(raw.0, S::COMPUTE_SHADER);
     }
 }
