@@ -153,15 +153,11 @@ fn transition(
     if state.read_stages.contains(stage) && state.read_access.contains(mask) {
         return None;
     }
-    // A write on another queue (none of this queue's stages) is the semaphore's to order.
-    let (src_stage, src_access) = source_on_queue(
-        state.write_stage & queue_stages,
-        state.write_stage,
-        state.write_access,
-        queue_stages,
-    );
+    // A write on another queue (none of this queue's stages) is the semaphore's to order; an
+    // access's stages are all graphics or none, so a kept stage keeps its access.
+    let src_stage = state.write_stage & queue_stages;
     let barrier =
-        (!src_stage.is_empty()).then_some((src_stage, src_access, stage, mask, old_layout));
+        (!src_stage.is_empty()).then_some((src_stage, state.write_access, stage, mask, old_layout));
     state.read_stages |= stage;
     state.read_access |= mask;
     barrier
