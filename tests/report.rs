@@ -199,7 +199,7 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
         let half = settings
             .iter()
             .any(|s| s[0] == "lookup-resolution" && s[1] == "half");
-        let against_full = &r["vs_full_resolution"];
+        let against_full = &r["vs_exact_setting"];
         if half {
             let rel_mse = against_full["rel_mse"].as_f64().unwrap();
             assert!(rel_mse.is_finite() && rel_mse >= 0.0, "{r}");
