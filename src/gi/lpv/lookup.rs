@@ -283,12 +283,18 @@ impl Lookup {
         fields: &[LookupField],
         resolution: LookupResolution,
     ) -> GpuResult<Lookup> {
-        assert!(matches!(fields.len(), 1 | 2), "the lookup reads one or two fields");
+        if !matches!(fields.len(), 1 | 2) {
+            return Err(GpuError::Setup(format!(
+                "the lookup reads one or two fields, not {}",
+                fields.len()
+            )));
+        }
         let filter = fields[0].lattices.filter();
-        assert!(
-            fields.iter().all(|f| f.lattices.filter() == filter),
-            "the fields of one lookup are read the same way"
-        );
+        if fields.iter().any(|f| f.lattices.filter() != filter) {
+            return Err(GpuError::Setup(
+                "the fields of one lookup must be read the same way".into(),
+            ));
+        }
         let texels = filter == LookupFilter::Texels;
         let written = field_words(fields);
         let count = fields.len();
@@ -409,13 +415,13 @@ impl Lookup {
     }
 
     /// The bindings of `fields`' lattices and of their constants.
-    fn field_bindings<'a>(&'a self, fields: &[LookupField<'a>]) -> Vec<Binding<'a>> {
-        assert_eq!(fields.len(), self.fields, "the lookup was built for {} fields", self.fields);
-        debug_assert_eq!(
-            field_words(fields),
-            self.written,
-            "the lookup was built for other fields"
-        );
+    fn field_bindings<'a>(&'a self, fields: &[LookupField<'a>]) -> GpuResult<Vec<Binding<'a>>> {
+        if fields.len() != self.fields || field_words(fields) != self.written {
+            return Err(GpuError::Setup(format!(
+                "the lookup was built for other fields ({} of them, their places and sizes as then)",
+                self.fields
+            )));
+        }
         // A one-field lookup binds its lattice in the far slots too; the shader leaves them be.
         let near = [ids::LOOKUP_LATTICE_R, ids::LOOKUP_LATTICE_G, ids::LOOKUP_LATTICE_B];
         let far = [ids::LOOKUP_FAR_LATTICE_R, ids::LOOKUP_FAR_LATTICE_G, ids::LOOKUP_FAR_LATTICE_B];
@@ -427,12 +433,16 @@ impl Lookup {
                         Binding::sampled(number, &images[c], sampler)
                     }
                     (LatticeReads::Texels(buffers), None) => Binding::texels(number, buffers[c]),
-                    _ => panic!("the lookup was built to read its fields another way"),
+                    _ => {
+                        return Err(GpuError::Setup(
+                            "the lookup was built to read its fields another way".into(),
+                        ));
+                    }
                 });
             }
         }
         bindings.push(Binding::read(ids::LOOKUP_FIELDS, &self.words));
-        bindings
+        Ok(bindings)
     }
 
     /// At half resolution, record the lookup of `fields` into view `index`'s quarter-size
@@ -451,7 +461,7 @@ impl Lookup {
             GpuError::Setup(format!("the lookup was not fitted to view {index}"))
         })?;
         let gb = &view.gbuffer;
-        let mut bindings = self.field_bindings(fields);
+        let mut bindings = self.field_bindings(fields)?;
         bindings.extend([
             Binding::image_read(ids::LOOKUP_GBUFFER_POSITION, &gb.position),
             Binding::image_read(ids::LOOKUP_GBUFFER_NORMAL, &gb.normal),
@@ -492,7 +502,7 @@ impl Lookup {
                 (UPSAMPLE, &eye)
             }
             None => {
-                bindings.extend(self.field_bindings(fields));
+                bindings.extend(self.field_bindings(fields)?);
                 (LOOKUP, &())
             }
         };
@@ -528,7 +538,7 @@ impl Lookup {
                 LIT_UPSAMPLE
             }
             None => {
-                bindings.extend(self.field_bindings(fields));
+                bindings.extend(self.field_bindings(fields)?);
                 LIT_LOOKUP
             }
         };
