@@ -7,10 +7,10 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use glam::Vec3;
-use vkgi::gi::GiMethod;
 use vkgi::gi::registry::{self, MethodEntry, Setup};
+use vkgi::gi::{FrameContext, GiMethod};
 use vkgi::gpu::frames::FrameRing;
-use vkgi::gpu::{Gpu, Stage};
+use vkgi::gpu::{Buffer, BufferDesc, Gpu, GpuResult, Recorder, Stage};
 use vkgi::render::runner::run_frames;
 use vkgi::render::{Eye, Frame, FrameOptions};
 use vkgi::scene::texture::{linear_to_srgb, srgb_to_linear};
@@ -389,4 +389,55 @@ fn the_profile_names_every_method_pass_and_the_cave_shares_its_light() {
         }
     }
     common::assert_no_validation_errors(&gpu);
+}
+
+/// A method whose two parts write one buffer: they could run at once on two queues.
+struct SharedWrite {
+    shared: Buffer,
+}
+
+impl GiMethod for SharedWrite {
+    fn name(&self) -> &'static str {
+        "shared-write"
+    }
+
+    fn record_light(&mut self, _: &mut Recorder, _: &FrameContext) -> GpuResult<()> {
+        Ok(())
+    }
+
+    fn parts(&self) -> &'static [&'static str] {
+        &["first", "second"]
+    }
+
+    fn record_part(&mut self, rec: &mut Recorder, _: &FrameContext, _: usize) -> GpuResult<()> {
+        rec.fill_buffer("clear", &self.shared, 0);
+        Ok(())
+    }
+
+    fn record_lookup(&self, _: &mut Recorder, _: &FrameContext, _: usize) -> GpuResult<()> {
+        Ok(())
+    }
+
+    fn describe(&self) -> Vec<String> {
+        Vec::new()
+    }
+}
+
+#[test]
+fn parts_that_write_one_resource_fail_the_frame_naming_it() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let mut frame = Frame::new(&gpu, &scene, options(false)).unwrap();
+    let shared = gpu
+        .create_buffer(&BufferDesc::storage("the shared buffer", 256))
+        .unwrap();
+    let mut method = SharedWrite { shared };
+    let Err(error) = run_frames(&gpu, &mut frame, Some(&mut method), 0, 1) else {
+        panic!("the frame ran");
+    };
+    assert_eq!(
+        error.to_string(),
+        "the method's parts first and second both use the shared buffer and one of them writes \
+         it: parts may run at once on different queues, so they must not share what they write"
+    );
 }

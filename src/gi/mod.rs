@@ -151,7 +151,8 @@ pub trait GiMethod {
 
     /// Labels of the independent parts recorded by [`GiMethod::record_part`] (none by
     /// default). Parts may run concurrently, each on its own compute queue, after the light
-    /// work and before any lookup; they must not touch each other's resources.
+    /// work and before any lookup; no part may touch a resource another part writes (the
+    /// frame fails with an error naming it, `render::part_ledger`).
     fn parts(&self) -> &'static [&'static str] {
         &[]
     }

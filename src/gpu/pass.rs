@@ -4,7 +4,7 @@
 //! need, and wraps the work in a debug label and a timestamp scope tagged with the recorder's
 //! context (method, stage, part, step), so no pass can forget any of them.
 
-use ash::vk;
+use ash::vk::{self, Handle};
 
 use super::context::{Gpu, Queue};
 use super::memory::{Buffer, Image, SyncState};
@@ -381,15 +381,41 @@ enum Resource<'r> {
     Image(&'r Image),
 }
 
+impl Resource<'_> {
+    /// What a part's record of its accesses keeps of the resource and `access`.
+    fn use_by(&self, access: Access) -> ResourceUse {
+        let (handle, name) = match self {
+            Resource::Buffer(b) => (b.raw.as_raw(), &b.name),
+            Resource::Image(i) => (i.raw.as_raw(), &i.name),
+        };
+        ResourceUse {
+            handle,
+            name: name.clone(),
+            writes: access.writes(),
+        }
+    }
+}
+
+/// One access of a resource while an independent part was recorded
+/// ([`Recorder::take_part_uses`]): the resource's Vulkan handle and name, and whether it wrote.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResourceUse {
+    pub handle: u64,
+    pub name: String,
+    pub writes: bool,
+}
+
 /// Records passes into one command buffer of one queue family, tagging each with its context.
 pub struct Recorder<'a> {
     gpu: &'a Gpu,
     cmd: vk::CommandBuffer,
-    family: u32,
-    /// The stages the queue's family runs ([`queue_stages`]): the only ones its barriers name.
-    stages: vk::PipelineStageFlags2,
+    /// The queue the commands are for: its family's timestamps, and the stages its family runs
+    /// ([`Queue::stages`]), the only ones its barriers name.
+    queue: Queue,
     timer: Option<&'a mut FrameQueries>,
     context: ScopeTag,
+    /// The accesses recorded while the context names a part, until taken.
+    part_uses: Vec<ResourceUse>,
 }
 
 impl<'a> Recorder<'a> {
@@ -402,10 +428,10 @@ impl<'a> Recorder<'a> {
         Recorder {
             gpu,
             cmd,
-            family: queue.family,
-            stages: queue.stages,
+            queue: *queue,
             timer,
             context: ScopeTag::default(),
+            part_uses: Vec::new(),
         }
     }
 
@@ -478,7 +504,7 @@ impl<'a> Recorder<'a> {
             unsafe { utils.cmd_begin_debug_utils_label(self.cmd, &label) };
         }
         let device = &self.gpu.shared.device;
-        let family = self.family;
+        let family = self.queue.family;
         self.timer
             .as_mut()
             .and_then(|t| t.begin(device, self.cmd, family, tag))
@@ -495,8 +521,20 @@ impl<'a> Recorder<'a> {
         }
     }
 
+    /// The accesses recorded since the last call while the context named a part (what the
+    /// frame holds its parts to: see `render::frame`'s part ledger).
+    pub fn take_part_uses(&mut self) -> Vec<ResourceUse> {
+        std::mem::take(&mut self.part_uses)
+    }
+
     /// Record the barriers that the accesses need, in one pipeline-barrier command.
     fn sync(&mut self, accesses: &[(Resource, Access)]) {
+        if self.context.part.is_some() {
+            let uses = accesses
+                .iter()
+                .map(|(resource, access)| resource.use_by(*access));
+            self.part_uses.extend(uses);
+        }
         let mut buffer_barriers = Vec::new();
         let mut image_barriers = Vec::new();
         // Reads before writes: where a pass reads and writes one resource through two bindings
@@ -510,7 +548,7 @@ impl<'a> Recorder<'a> {
                 Resource::Buffer(buffer) => {
                     let mut state = buffer.sync.get();
                     if let Some((ss, sa, ds, da, _)) =
-                        transition(&mut state, *access, false, self.stages)
+                        transition(&mut state, *access, false, self.queue.stages)
                     {
                         buffer_barriers.push(
                             vk::BufferMemoryBarrier2::default()
@@ -530,7 +568,7 @@ impl<'a> Recorder<'a> {
                 Resource::Image(image) => {
                     let mut state = image.sync.get();
                     if let Some((ss, sa, ds, da, old)) =
-                        transition(&mut state, *access, true, self.stages)
+                        transition(&mut state, *access, true, self.queue.stages)
                     {
                         image_barriers.push(
                             vk::ImageMemoryBarrier2::default()

@@ -9,6 +9,7 @@
 
 use ash::vk;
 
+use super::part_ledger::PartLedger;
 use super::passes::ScenePasses;
 use super::targets::{Eye, View, check_buffer, check_image_size, check_layered_image};
 use crate::error::InputError;
@@ -349,6 +350,7 @@ impl Frame {
         if let Some(gi) = gi.as_deref_mut() {
             let labels = gi.parts();
             if !labels.is_empty() {
+                let mut ledger = PartLedger::default();
                 segments.parts(labels.len(), &mut |rec, part| {
                     rec.set_context(ScopeTag {
                         part: Some(Part {
@@ -357,7 +359,8 @@ impl Frame {
                         }),
                         ..tag(Stage::GiPart, None)
                     });
-                    gi.record_part(rec, &ctx, part)
+                    gi.record_part(rec, &ctx, part)?;
+                    ledger.add(labels, part, &rec.take_part_uses())
                 })?;
             }
             gi.light_done(&ctx);

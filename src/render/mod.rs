@@ -5,6 +5,7 @@
 pub mod cost;
 pub mod frame;
 pub mod full_screen;
+pub mod part_ledger;
 pub mod passes;
 pub mod runner;
 pub mod targets;
