@@ -6,11 +6,12 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use ash::vk;
 use glam::Vec3;
 use vkgi::gi::registry::{self, MethodEntry, Setup};
 use vkgi::gi::{FrameContext, GiMethod};
 use vkgi::gpu::frames::FrameRing;
-use vkgi::gpu::{Buffer, BufferDesc, Gpu, GpuResult, Recorder, Stage};
+use vkgi::gpu::{Buffer, BufferDesc, Gpu, GpuResult, Image, ImageDesc, Recorder, Stage};
 use vkgi::render::runner::run_frames;
 use vkgi::render::{Eye, Frame, FrameOptions};
 use vkgi::scene::texture::{linear_to_srgb, srgb_to_linear};
@@ -391,14 +392,24 @@ fn the_profile_names_every_method_pass_and_the_cave_shares_its_light() {
     common::assert_no_validation_errors(&gpu);
 }
 
-/// A method whose two parts write one buffer: they could run at once on two queues.
-struct SharedWrite {
-    shared: Buffer,
+/// What the two parts of a `SharingParts` share.
+enum Shared {
+    /// Both clear one buffer.
+    WrittenBuffer(Buffer),
+    /// Both copy one image out, each into its own buffer: the first moves the image to the
+    /// copy's layout, which rewrites it under the second's read.
+    RelaidImage(Image, [Buffer; 2]),
 }
 
-impl GiMethod for SharedWrite {
+/// A method whose two parts share a resource that one of them writes: run at once on two
+/// queues, nothing would order them.
+struct SharingParts {
+    shared: Shared,
+}
+
+impl GiMethod for SharingParts {
     fn name(&self) -> &'static str {
-        "shared-write"
+        "sharing-parts"
     }
 
     fn record_light(&mut self, _: &mut Recorder, _: &FrameContext) -> GpuResult<()> {
@@ -409,8 +420,13 @@ impl GiMethod for SharedWrite {
         &["first", "second"]
     }
 
-    fn record_part(&mut self, rec: &mut Recorder, _: &FrameContext, _: usize) -> GpuResult<()> {
-        rec.fill_buffer("clear", &self.shared, 0);
+    fn record_part(&mut self, rec: &mut Recorder, _: &FrameContext, part: usize) -> GpuResult<()> {
+        match &self.shared {
+            Shared::WrittenBuffer(buffer) => rec.fill_buffer("clear", buffer, 0),
+            Shared::RelaidImage(image, copies) => {
+                rec.copy_image_to_buffer("copy out", image, &copies[part])
+            }
+        }
         Ok(())
     }
 
@@ -423,21 +439,44 @@ impl GiMethod for SharedWrite {
     }
 }
 
-#[test]
-fn parts_that_write_one_resource_fail_the_frame_naming_it() {
+/// The error of the first frame run with `shared` between two parts.
+fn sharing_error(shared: impl FnOnce(&Gpu) -> Shared) -> String {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
     let mut frame = Frame::new(&gpu, &scene, options(false)).unwrap();
-    let shared = gpu
-        .create_buffer(&BufferDesc::storage("the shared buffer", 256))
-        .unwrap();
-    let mut method = SharedWrite { shared };
-    let Err(error) = run_frames(&gpu, &mut frame, Some(&mut method), 0, 1) else {
-        panic!("the frame ran");
+    let mut method = SharingParts {
+        shared: shared(&gpu),
     };
+    match run_frames(&gpu, &mut frame, Some(&mut method), 0, 1) {
+        Ok(_) => panic!("the frame ran"),
+        Err(error) => error.to_string(),
+    }
+}
+
+#[test]
+fn parts_that_share_what_one_writes_fail_the_frame_naming_it() {
+    let written = sharing_error(|gpu| {
+        Shared::WrittenBuffer(
+            gpu.create_buffer(&BufferDesc::storage("the shared buffer", 256))
+                .unwrap(),
+        )
+    });
     assert_eq!(
-        error.to_string(),
+        written,
         "the method's parts first and second both use the shared buffer and one of them writes \
          it: parts may run at once on different queues, so they must not share what they write"
+    );
+    let relaid = sharing_error(|gpu| {
+        let usage = vk::ImageUsageFlags::TRANSFER_SRC;
+        let desc = ImageDesc::new_2d("the shared image", vk::Format::R8G8B8A8_UNORM, 4, 4, usage);
+        let copy = |name| gpu.create_buffer(&BufferDesc::storage(name, 64)).unwrap();
+        Shared::RelaidImage(
+            gpu.create_image(&desc).unwrap(),
+            [copy("copy 0"), copy("copy 1")],
+        )
+    });
+    assert!(
+        relaid.contains("parts first and second both use the shared image"),
+        "{relaid}"
     );
 }

@@ -382,8 +382,9 @@ enum Resource<'r> {
 }
 
 impl Resource<'_> {
-    /// What a part's record of its accesses keeps of the resource and `access`.
-    fn use_by(&self, access: Access) -> ResourceUse {
+    /// What a part's record of its accesses keeps of the resource: `writes` where the access
+    /// wrote it or changed its layout.
+    fn use_by(&self, writes: bool) -> ResourceUse {
         let (handle, name) = match self {
             Resource::Buffer(b) => (b.raw.as_raw(), &b.name),
             Resource::Image(i) => (i.raw.as_raw(), &i.name),
@@ -391,13 +392,14 @@ impl Resource<'_> {
         ResourceUse {
             handle,
             name: name.clone(),
-            writes: access.writes(),
+            writes,
         }
     }
 }
 
 /// One access of a resource while an independent part was recorded
-/// ([`Recorder::take_part_uses`]): the resource's Vulkan handle and name, and whether it wrote.
+/// ([`Recorder::take_part_uses`]): the resource's Vulkan handle and name, and whether it wrote
+/// (an image's layout change counts: it rewrites the image).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ResourceUse {
     pub handle: u64,
@@ -529,12 +531,6 @@ impl<'a> Recorder<'a> {
 
     /// Record the barriers that the accesses need, in one pipeline-barrier command.
     fn sync(&mut self, accesses: &[(Resource, Access)]) {
-        if self.context.part.is_some() {
-            let uses = accesses
-                .iter()
-                .map(|(resource, access)| resource.use_by(*access));
-            self.part_uses.extend(uses);
-        }
         let mut buffer_barriers = Vec::new();
         let mut image_barriers = Vec::new();
         // Reads before writes: where a pass reads and writes one resource through two bindings
@@ -544,7 +540,7 @@ impl<'a> Recorder<'a> {
         let reads = accesses.iter().filter(|(_, access)| !access.writes());
         let writes = accesses.iter().filter(|(_, access)| access.writes());
         for (resource, access) in reads.chain(writes) {
-            match resource {
+            let relayout = match resource {
                 Resource::Buffer(buffer) => {
                     let mut state = buffer.sync.get();
                     if let Some((ss, sa, ds, da, _)) =
@@ -564,12 +560,12 @@ impl<'a> Recorder<'a> {
                         );
                     }
                     buffer.sync.set(state);
+                    false
                 }
                 Resource::Image(image) => {
                     let mut state = image.sync.get();
-                    if let Some((ss, sa, ds, da, old)) =
-                        transition(&mut state, *access, true, self.queue.stages)
-                    {
+                    let barrier = transition(&mut state, *access, true, self.queue.stages);
+                    if let Some((ss, sa, ds, da, old)) = barrier {
                         image_barriers.push(
                             vk::ImageMemoryBarrier2::default()
                                 .src_stage_mask(ss)
@@ -585,7 +581,12 @@ impl<'a> Recorder<'a> {
                         );
                     }
                     image.sync.set(state);
+                    barrier.is_some_and(|(.., old)| old != state.layout)
                 }
+            };
+            if self.context.part.is_some() {
+                self.part_uses
+                    .push(resource.use_by(access.writes() || relayout));
             }
         }
         if buffer_barriers.is_empty() && image_barriers.is_empty() {
