@@ -398,7 +398,7 @@ enum Shared {
     WrittenBuffer(Buffer),
     /// Both copy one image out, each into its own buffer: the first moves the image to the
     /// copy's layout, which rewrites it under the second's read.
-    RelaidImage(Image, [Buffer; 2]),
+    RelaidImage(Box<(Image, [Buffer; 2])>),
 }
 
 /// A method whose two parts share a resource that one of them writes: run at once on two
@@ -423,7 +423,8 @@ impl GiMethod for SharingParts {
     fn record_part(&mut self, rec: &mut Recorder, _: &FrameContext, part: usize) -> GpuResult<()> {
         match &self.shared {
             Shared::WrittenBuffer(buffer) => rec.fill_buffer("clear", buffer, 0),
-            Shared::RelaidImage(image, copies) => {
+            Shared::RelaidImage(shared) => {
+                let (image, copies) = &**shared;
                 rec.copy_image_to_buffer("copy out", image, &copies[part])
             }
         }
@@ -470,10 +471,8 @@ fn parts_that_share_what_one_writes_fail_the_frame_naming_it() {
         let usage = vk::ImageUsageFlags::TRANSFER_SRC;
         let desc = ImageDesc::new_2d("the shared image", vk::Format::R8G8B8A8_UNORM, 4, 4, usage);
         let copy = |name| gpu.create_buffer(&BufferDesc::storage(name, 64)).unwrap();
-        Shared::RelaidImage(
-            gpu.create_image(&desc).unwrap(),
-            [copy("copy 0"), copy("copy 1")],
-        )
+        let image = gpu.create_image(&desc).unwrap();
+        Shared::RelaidImage(Box::new((image, [copy("copy 0"), copy("copy 1")])))
     });
     assert!(
         relaid.contains("parts first and second both use the shared image"),
