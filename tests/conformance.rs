@@ -13,7 +13,7 @@ use vkgi::gi::{FrameContext, GiMethod};
 use vkgi::gpu::frames::FrameRing;
 use vkgi::gpu::{Buffer, BufferDesc, Gpu, GpuResult, Image, ImageDesc, Recorder, Stage};
 use vkgi::render::runner::run_frames;
-use vkgi::render::{Eye, Frame, FrameOptions};
+use vkgi::render::{Eye, Frame, FrameOptions, SubmitPlan};
 use vkgi::scene::texture::{linear_to_srgb, srgb_to_linear};
 use vkgi::scene::{Scene, Texture};
 use vkgi::view::cave::Cave;
@@ -440,42 +440,56 @@ impl GiMethod for SharingParts {
     }
 }
 
-/// The error of the first frame run with `shared` between two parts.
-fn sharing_error(shared: impl FnOnce(&Gpu) -> Shared) -> String {
+/// The error of the first frame run with `shared` between two parts, recorded into one command
+/// buffer (`Sequential`) or submitted part by part (`Async`: on lavapipe's one queue the
+/// submissions run in turn), with no validation error on the way.
+fn sharing_error(submit: SubmitPlan, shared: impl FnOnce(&Gpu) -> Shared) -> String {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
-    let mut frame = Frame::new(&gpu, &scene, options(false)).unwrap();
+    let options = FrameOptions {
+        submit,
+        ..options(false)
+    };
+    let mut frame = Frame::new(&gpu, &scene, options).unwrap();
     let mut method = SharingParts {
         shared: shared(&gpu),
     };
-    match run_frames(&gpu, &mut frame, Some(&mut method), 0, 1) {
+    let error = match run_frames(&gpu, &mut frame, Some(&mut method), 0, 1) {
         Ok(_) => panic!("the frame ran"),
         Err(error) => error.to_string(),
-    }
+    };
+    drop(method);
+    drop(frame);
+    common::assert_no_validation_errors(&gpu);
+    error
 }
 
 #[test]
 fn parts_that_share_what_one_writes_fail_the_frame_naming_it() {
-    let written = sharing_error(|gpu| {
-        Shared::WrittenBuffer(
-            gpu.create_buffer(&BufferDesc::storage("the shared buffer", 256))
-                .unwrap(),
-        )
-    });
-    assert_eq!(
-        written,
-        "the method's parts first and second both use the shared buffer and one of them writes \
-         it: parts may run at once on different queues, so they must not share what they write"
-    );
-    let relaid = sharing_error(|gpu| {
-        let usage = vk::ImageUsageFlags::TRANSFER_SRC;
-        let desc = ImageDesc::new_2d("the shared image", vk::Format::R8G8B8A8_UNORM, 4, 4, usage);
-        let copy = |name| gpu.create_buffer(&BufferDesc::storage(name, 64)).unwrap();
-        let image = gpu.create_image(&desc).unwrap();
-        Shared::RelaidImage(Box::new((image, [copy("copy 0"), copy("copy 1")])))
-    });
-    assert!(
-        relaid.contains("parts first and second both use the shared image"),
-        "{relaid}"
-    );
+    for submit in [SubmitPlan::Sequential, SubmitPlan::Async] {
+        let written = sharing_error(submit, |gpu| {
+            let desc = BufferDesc::storage("the shared buffer", 256);
+            Shared::WrittenBuffer(gpu.create_buffer(&desc).unwrap())
+        });
+        assert_eq!(
+            written,
+            "the method's parts first and second both use the shared buffer and one of them \
+             writes it or changes its layout: parts may run at once on different queues, so they \
+             must not share what either writes (a shared image's layout is best set before the \
+             parts, in the method's light work)",
+            "{submit:?}"
+        );
+        let relaid = sharing_error(submit, |gpu| {
+            let usage = vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::SAMPLED;
+            let desc =
+                ImageDesc::new_2d("the shared image", vk::Format::R8G8B8A8_UNORM, 4, 4, usage);
+            let copy = |name| gpu.create_buffer(&BufferDesc::storage(name, 64)).unwrap();
+            let image = gpu.create_image(&desc).unwrap();
+            Shared::RelaidImage(Box::new((image, [copy("copy 0"), copy("copy 1")])))
+        });
+        assert!(
+            relaid.contains("parts first and second both use the shared image"),
+            "{submit:?}: {relaid}"
+        );
+    }
 }

@@ -199,13 +199,13 @@ fn the_report_scores_a_tiny_grid_and_every_row_points_at_an_image() {
         let half = settings
             .iter()
             .any(|s| s[0] == "lookup-resolution" && s[1] == "half");
-        let against_full = &r["vs_exact_setting"];
+        let against_exact = &r["vs_exact_setting"];
         if half {
-            let rel_mse = against_full["rel_mse"].as_f64().unwrap();
+            let rel_mse = against_exact["rel_mse"].as_f64().unwrap();
             assert!(rel_mse.is_finite() && rel_mse >= 0.0, "{r}");
             halves += 1;
         } else {
-            assert!(against_full.is_null(), "{r}");
+            assert!(against_exact.is_null(), "{r}");
         }
     }
     assert_eq!(halves, 4);

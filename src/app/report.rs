@@ -493,13 +493,13 @@ fn markdown(report: &Report) -> String {
         let ratio = r
             .rel_mse_vs_ambient
             .map_or("-".to_string(), |v| format!("{v:.3}"));
-        let against_full = r
+        let against_exact = r
             .vs_exact_setting
             .as_ref()
             .map_or("-".to_string(), |m| format!("{:.2e}", m.rel_mse));
         let _ = writeln!(
             out,
-            "| {} | {settings} | {} | {:.2} | {core} | {:.5} | {:.5} | {ratio} | {against_full} | {:.4} | {:.5} | {:.5} | {:.4} | {:.3} | {:.3} | [png]({}) |",
+            "| {} | {settings} | {} | {:.2} | {core} | {:.5} | {:.5} | {ratio} | {against_exact} | {:.4} | {:.5} | {:.5} | {:.4} | {:.3} | {:.3} | [png]({}) |",
             r.method,
             r.frames,
             r.ms_per_frame,

@@ -44,12 +44,17 @@ pub struct FrameRing {
     pub profiler: Profiler,
 }
 
-/// A frame being recorded: submit its parts, then [`FrameBuilder::finish`].
+/// A frame being recorded: submit its parts, then [`FrameBuilder::finish`]. A frame dropped
+/// unfinished (a recording error after some of its parts were submitted) waits for the device,
+/// since only the last part carries the slot's fence: its command buffers are reset when the
+/// slot is used again.
 pub struct FrameBuilder<'r> {
     ring: &'r mut FrameRing,
     slot: usize,
     first_part: bool,
     frame_scope: Option<u32>,
+    /// Parts submitted that no fence of the ring covers yet.
+    unfenced: bool,
 }
 
 impl FrameRing {
@@ -108,6 +113,7 @@ impl FrameRing {
             slot,
             first_part: true,
             frame_scope: None,
+            unfenced: false,
         })
     }
 
@@ -228,6 +234,7 @@ impl FrameBuilder<'_> {
         self.part(gpu, queue, waits, signals, true, record)?;
         self.ring.slots[self.slot].in_flight = true;
         self.ring.frame += 1;
+        self.unfenced = false;
         Ok(())
     }
 
@@ -276,7 +283,19 @@ impl FrameBuilder<'_> {
         } else {
             vk::Fence::null()
         };
-        submit(device, queue, cmd, waits, signals, fence)
+        submit(device, queue, cmd, waits, signals, fence)?;
+        self.unfenced = !last;
+        Ok(())
+    }
+}
+
+impl Drop for FrameBuilder<'_> {
+    fn drop(&mut self) {
+        if self.unfenced {
+            // SAFETY: waiting for idle has no preconditions; it makes the slot's command
+            // buffers free to reset.
+            let _ = unsafe { self.ring.shared.device.device_wait_idle() };
+        }
     }
 }
 

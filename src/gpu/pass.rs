@@ -385,12 +385,13 @@ impl Resource<'_> {
     /// What a part's record of its accesses keeps of the resource: `writes` where the access
     /// wrote it or changed its layout.
     fn use_by(&self, writes: bool) -> ResourceUse {
-        let (handle, name) = match self {
-            Resource::Buffer(b) => (b.raw.as_raw(), &b.name),
-            Resource::Image(i) => (i.raw.as_raw(), &i.name),
+        let (handle, image, name) = match self {
+            Resource::Buffer(b) => (b.raw.as_raw(), false, &b.name),
+            Resource::Image(i) => (i.raw.as_raw(), true, &i.name),
         };
         ResourceUse {
             handle,
+            image,
             name: name.clone(),
             writes,
         }
@@ -398,11 +399,13 @@ impl Resource<'_> {
 }
 
 /// One access of a resource while an independent part was recorded
-/// ([`Recorder::take_part_uses`]): the resource's Vulkan handle and name, and whether it wrote
-/// (an image's layout change counts: it rewrites the image).
+/// ([`Recorder::take_part_uses`]): the resource's Vulkan handle, whether it is an image (handles
+/// of different kinds may be equal), its name, and whether the access wrote it (an image's
+/// layout change counts: it rewrites the image).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ResourceUse {
     pub handle: u64,
+    pub image: bool,
     pub name: String,
     pub writes: bool,
 }
@@ -478,10 +481,6 @@ impl<'a> Recorder<'a> {
         let result = f(self);
         self.context = saved;
         result
-    }
-
-    pub fn command_buffer(&self) -> vk::CommandBuffer {
-        self.cmd
     }
 
     pub fn gpu(&self) -> &Gpu {

@@ -435,7 +435,8 @@ impl Frame {
     /// graphics queue; each part on its compute queue once the head is done; the tail (every
     /// view's direct light, lookup and tone mapping) on the graphics queue once every part is
     /// done. Otherwise it is one command buffer on the graphics queue. The epilogue, if any,
-    /// ends the last submission.
+    /// ends the last submission. After an error, neither the frame nor the method may record
+    /// again: their resources' tracked states name accesses of a recording never submitted.
     pub fn submit_frame(
         &mut self,
         gpu: &Gpu,

@@ -14,10 +14,10 @@ struct Touch {
     written: bool,
 }
 
-/// The resources a frame's parts touched so far, by Vulkan handle.
+/// The resources a frame's parts touched so far, by kind (image or not) and Vulkan handle.
 #[derive(Default)]
 pub struct PartLedger {
-    touched: HashMap<u64, Touch>,
+    touched: HashMap<(bool, u64), Touch>,
 }
 
 impl PartLedger {
@@ -25,15 +25,20 @@ impl PartLedger {
     /// `labels`) where it and another part touch one resource that either writes.
     pub fn add(&mut self, labels: &[&str], part: usize, uses: &[ResourceUse]) -> GpuResult<()> {
         for used in uses {
-            let touch = self.touched.entry(used.handle).or_insert(Touch {
-                part,
-                written: false,
-            });
+            let touch = self
+                .touched
+                .entry((used.image, used.handle))
+                .or_insert(Touch {
+                    part,
+                    written: false,
+                });
             if touch.part != part && (touch.written || used.writes) {
                 let label = |p: usize| labels.get(p).copied().unwrap_or("?");
                 return Err(GpuError::Setup(format!(
-                    "the method's parts {} and {} both use {} and one of them writes it: parts \
-                     may run at once on different queues, so they must not share what they write",
+                    "the method's parts {} and {} both use {} and one of them writes it or \
+                     changes its layout: parts may run at once on different queues, so they must \
+                     not share what either writes (a shared image's layout is best set before \
+                     the parts, in the method's light work)",
                     label(touch.part),
                     label(part),
                     used.name
@@ -52,6 +57,7 @@ mod tests {
     fn used(handle: u64, writes: bool) -> ResourceUse {
         ResourceUse {
             handle,
+            image: false,
             name: format!("buffer {handle}"),
             writes,
         }
@@ -76,8 +82,10 @@ mod tests {
         let error = ledger.add(&LABELS, 1, &[used(7, false)]).unwrap_err();
         assert_eq!(
             error.to_string(),
-            "the method's parts R and G both use buffer 7 and one of them writes it: parts may \
-             run at once on different queues, so they must not share what they write"
+            "the method's parts R and G both use buffer 7 and one of them writes it or changes \
+             its layout: parts may run at once on different queues, so they must not share what \
+             either writes (a shared image's layout is best set before the parts, in the \
+             method's light work)"
         );
     }
 
