@@ -382,12 +382,22 @@ enum Resource<'r> {
 }
 
 impl Resource<'_> {
-    /// What a part's record of its accesses keeps of the resource: `writes` where the access
+    /// The resource's Vulkan handle and whether it is an image (handles of different kinds may
+    /// be equal).
+    fn key(&self) -> (u64, bool) {
+        match self {
+            Resource::Buffer(b) => (b.raw.as_raw(), false),
+            Resource::Image(i) => (i.raw.as_raw(), true),
+        }
+    }
+
+    /// What a part's record of its accesses keeps of the resource: `writes` where an access
     /// wrote it or changed its layout.
     fn use_by(&self, writes: bool) -> ResourceUse {
-        let (handle, image, name) = match self {
-            Resource::Buffer(b) => (b.raw.as_raw(), false, &b.name),
-            Resource::Image(i) => (i.raw.as_raw(), true, &i.name),
+        let (handle, image) = self.key();
+        let name = match self {
+            Resource::Buffer(b) => &b.name,
+            Resource::Image(i) => &i.name,
         };
         ResourceUse {
             handle,
@@ -398,10 +408,9 @@ impl Resource<'_> {
     }
 }
 
-/// One access of a resource while an independent part was recorded
-/// ([`Recorder::take_part_uses`]): the resource's Vulkan handle, whether it is an image (handles
-/// of different kinds may be equal), its name, and whether the access wrote it (an image's
-/// layout change counts: it rewrites the image).
+/// A resource an independent part used ([`Recorder::take_part_uses`]): its Vulkan handle,
+/// whether it is an image (handles of different kinds may be equal), its name, and whether any
+/// of the part's accesses wrote it (an image's layout change counts: it rewrites the image).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ResourceUse {
     pub handle: u64,
@@ -419,7 +428,7 @@ pub struct Recorder<'a> {
     queue: Queue,
     timer: Option<&'a mut FrameQueries>,
     context: ScopeTag,
-    /// The accesses recorded while the context names a part, until taken.
+    /// The resources used while the context names a part, each once, until taken.
     part_uses: Vec<ResourceUse>,
 }
 
@@ -522,8 +531,8 @@ impl<'a> Recorder<'a> {
         }
     }
 
-    /// The accesses recorded since the last call while the context named a part (what the
-    /// frame holds its parts to: see `render::frame`'s part ledger).
+    /// The resources used since the last call while the context named a part, each once, in
+    /// the order first used (what the frame holds its parts to: `render::part_ledger`).
     pub fn take_part_uses(&mut self) -> Vec<ResourceUse> {
         std::mem::take(&mut self.part_uses)
     }
@@ -584,8 +593,13 @@ impl<'a> Recorder<'a> {
                 }
             };
             if self.context.part.is_some() {
-                self.part_uses
-                    .push(resource.use_by(access.writes() || relayout));
+                let writes = access.writes() || relayout;
+                let (handle, image) = resource.key();
+                let same = |u: &&mut ResourceUse| u.handle == handle && u.image == image;
+                match self.part_uses.iter_mut().find(same) {
+                    Some(used) => used.writes |= writes,
+                    None => self.part_uses.push(resource.use_by(writes)),
+                }
             }
         }
         if buffer_barriers.is_empty() && image_barriers.is_empty() {
