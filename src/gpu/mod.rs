@@ -23,7 +23,7 @@ pub mod swapchain;
 
 pub use context::{ConservativeRasterization, DescriptorLimits, Gpu, GpuOptions, Queue, QueuePlan};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, Sampler};
-pub use pass::{Binding, ComputePass, Draw, RasterPass, Recorder, ResourceUse};
+pub use pass::{Binding, ComputePass, Draw, RasterPass, Recorder, ResourceKey, ResourceUse};
 pub use pipeline::{ComputePipeline, RasterPipeline, RasterPipelineDesc, Specialization};
 pub use profiler::{PassTiming, ProfileReport, Profiler};
 pub use push::PushConstants;

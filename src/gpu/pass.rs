@@ -382,39 +382,41 @@ enum Resource<'r> {
 }
 
 impl Resource<'_> {
-    /// The resource's Vulkan handle and whether it is an image (handles of different kinds may
-    /// be equal).
-    fn key(&self) -> (u64, bool) {
+    /// The resource's key and name.
+    fn key_and_name(&self) -> (ResourceKey, &str) {
         match self {
-            Resource::Buffer(b) => (b.raw.as_raw(), false),
-            Resource::Image(i) => (i.raw.as_raw(), true),
-        }
-    }
-
-    /// What a part's record of its accesses keeps of the resource: `writes` where an access
-    /// wrote it or changed its layout.
-    fn use_by(&self, writes: bool) -> ResourceUse {
-        let (handle, image) = self.key();
-        let name = match self {
-            Resource::Buffer(b) => &b.name,
-            Resource::Image(i) => &i.name,
-        };
-        ResourceUse {
-            handle,
-            image,
-            name: name.clone(),
-            writes,
+            Resource::Buffer(b) => (
+                ResourceKey {
+                    handle: b.raw.as_raw(),
+                    image: false,
+                },
+                &b.name,
+            ),
+            Resource::Image(i) => (
+                ResourceKey {
+                    handle: i.raw.as_raw(),
+                    image: true,
+                },
+                &i.name,
+            ),
         }
     }
 }
 
-/// A resource an independent part used ([`Recorder::take_part_uses`]): its Vulkan handle,
-/// whether it is an image (handles of different kinds may be equal), its name, and whether any
-/// of the part's accesses wrote it (an image's layout change counts: it rewrites the image).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ResourceUse {
+/// Which resource: its Vulkan handle, and whether it is an image (handles of different kinds may
+/// be equal).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct ResourceKey {
     pub handle: u64,
     pub image: bool,
+}
+
+/// A resource an independent part used ([`Recorder::take_part_uses`]): which, its name, and
+/// whether any of the part's accesses wrote it (an image's layout change counts: it rewrites the
+/// image).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ResourceUse {
+    pub key: ResourceKey,
     pub name: String,
     pub writes: bool,
 }
@@ -594,11 +596,14 @@ impl<'a> Recorder<'a> {
             };
             if self.context.part.is_some() {
                 let writes = access.writes() || relayout;
-                let (handle, image) = resource.key();
-                let same = |u: &&mut ResourceUse| u.handle == handle && u.image == image;
-                match self.part_uses.iter_mut().find(same) {
+                let (key, name) = resource.key_and_name();
+                match self.part_uses.iter_mut().find(|u| u.key == key) {
                     Some(used) => used.writes |= writes,
-                    None => self.part_uses.push(resource.use_by(writes)),
+                    None => self.part_uses.push(ResourceUse {
+                        key,
+                        name: name.to_string(),
+                        writes,
+                    }),
                 }
             }
         }

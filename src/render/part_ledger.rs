@@ -6,7 +6,7 @@
 
 use std::collections::HashMap;
 
-use crate::gpu::{GpuError, GpuResult, ResourceUse};
+use crate::gpu::{GpuError, GpuResult, ResourceKey, ResourceUse};
 
 /// The first part that touched a resource, and whether any part so far wrote it.
 struct Touch {
@@ -14,10 +14,10 @@ struct Touch {
     written: bool,
 }
 
-/// The resources a frame's parts touched so far, by kind (image or not) and Vulkan handle.
+/// The resources a frame's parts touched so far.
 #[derive(Default)]
 pub struct PartLedger {
-    touched: HashMap<(bool, u64), Touch>,
+    touched: HashMap<ResourceKey, Touch>,
 }
 
 impl PartLedger {
@@ -25,13 +25,10 @@ impl PartLedger {
     /// `labels`) where it and another part touch one resource that either writes.
     pub fn add(&mut self, labels: &[&str], part: usize, uses: &[ResourceUse]) -> GpuResult<()> {
         for used in uses {
-            let touch = self
-                .touched
-                .entry((used.image, used.handle))
-                .or_insert(Touch {
-                    part,
-                    written: false,
-                });
+            let touch = self.touched.entry(used.key).or_insert(Touch {
+                part,
+                written: false,
+            });
             if touch.part != part && (touch.written || used.writes) {
                 let label = |p: usize| labels.get(p).copied().unwrap_or("?");
                 return Err(GpuError::Setup(format!(
@@ -56,8 +53,10 @@ mod tests {
 
     fn used(handle: u64, writes: bool) -> ResourceUse {
         ResourceUse {
-            handle,
-            image: false,
+            key: ResourceKey {
+                handle,
+                image: false,
+            },
             name: format!("buffer {handle}"),
             writes,
         }
