@@ -28,7 +28,8 @@ pub const HDR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 /// they are.
 pub const LDR_FORMAT: vk::Format = vk::Format::R8G8B8A8_UNORM;
 /// The format tone mapping renders the 8-bit image through: the attachment encodes sRGB (on
-/// lavapipe 40% less time than the shader's `pow`, docs/performance.md).
+/// lavapipe 40% less time than the shader's `pow`: docs/performance-log.md, "The tone map
+/// through an sRGB view").
 pub const LDR_RENDER_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 
 /// The attachments the G-buffer pass writes and lighting passes read.
