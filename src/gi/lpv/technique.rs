@@ -26,6 +26,7 @@ use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
     ImageDesc, Part, Recorder, Specialization,
 };
+use crate::render::part_ledger::PartLedger;
 use crate::render::passes::DirectDraw;
 use crate::shaders;
 
@@ -1446,10 +1447,13 @@ impl Lpv {
         Ok(gpu.write_buffer(&self.geometry, bytemuck::cast_slice(&geometry.to_f32()))?)
     }
 
-    /// Propagate the loaded lattices `settings.iterations` steps (no RSM, injection or blend).
+    /// Propagate the loaded lattices `settings.iterations` steps (no RSM, injection or blend),
+    /// holding the parts to the contract a frame holds them to (`render::part_ledger`).
     pub fn record_propagation(&mut self, rec: &mut Recorder) -> GpuResult<()> {
+        let labels = self.parts();
+        let mut ledger = PartLedger::default();
         let mut result = 0;
-        for (index, &label) in self.parts().iter().enumerate() {
+        for (index, &label) in labels.iter().enumerate() {
             let part = Part {
                 index: index as u32,
                 label,
@@ -1465,6 +1469,7 @@ impl Lpv {
                 }
                 Ok(result)
             })?;
+            ledger.add(labels, index, &rec.take_part_uses())?;
         }
         self.result = result;
         Ok(())
