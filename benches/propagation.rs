@@ -1,7 +1,7 @@
-//! Every method with a size axis (LPV and ILPV: the lattice) per size: the tiled, naive and
-//! column kernels, a dispatch per colour channel against the three fused in one, and one
-//! submission against one per part (colour channel) on its queue, timed by vkgi's own GPU
-//! profiler through the same code as `vkgi profile` (so both print the same numbers).
+//! Every method with a size axis (LPV and ILPV: the lattice) per size: the tiled, naive, column
+//! and single-column kernels, a dispatch per colour channel against the three fused in one,
+//! and one submission against one per part (colour channel) on its queue, timed by vkgi's own
+//! GPU profiler through the same code as `vkgi profile` (so both print the same numbers).
 //!
 //! cargo bench --bench propagation [-- SIZES FRAMES] [--save-baseline], e.g. `-- 8,16,32,64 10`
 //! (ends with each number against benches/baselines/propagation.json for this device, or stores
@@ -61,6 +61,18 @@ fn main() -> anyhow::Result<()> {
         (
             "column, channels fused",
             "column",
+            "fused",
+            SubmitPlan::Sequential,
+        ),
+        (
+            "single column, sequential parts",
+            "single-column",
+            "separate",
+            SubmitPlan::Sequential,
+        ),
+        (
+            "single column, channels fused",
+            "single-column",
             "fused",
             SubmitPlan::Sequential,
         ),

@@ -154,7 +154,12 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     // Every kernel does the same arithmetic per channel in the same order, whether a dispatch
     // carries one channel or three: the same bits, whichever runs.
     let mut first_kernel_results = std::collections::HashMap::new();
-    let kernels = [Kernel::Tiled, Kernel::Naive, Kernel::Column];
+    let kernels = [
+        Kernel::Tiled,
+        Kernel::Naive,
+        Kernel::Column,
+        Kernel::SingleColumn,
+    ];
     let plans = [ChannelPlan::Separate, ChannelPlan::Fused];
     for scheme in [Scheme::Ilpv, Scheme::Lpv] {
         for (kernel, plan) in kernels.iter().flat_map(|&k| plans.map(|p| (k, p))) {
@@ -228,15 +233,16 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     common::assert_no_validation_errors(&gpu);
 }
 
-/// The column kernel's workgroups span a lattice's bundles along x (16x4 for 24 cells across,
-/// 32x2 for 40): the same bits as the tiled kernel, whose workgroups are tiles.
+/// The column kernels' workgroups span a lattice's bundles along x (2x2 columns a thread: 16x4
+/// for 24 cells across, 32x2 for 40; one column a thread: 32x2 for both): the same bits as the
+/// tiled kernel, whose workgroups are tiles.
 #[test]
 fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
     for scheme in [Scheme::Ilpv, Scheme::Lpv] {
         for lattice in [24, 40] {
-            let results = [Kernel::Tiled, Kernel::Column].map(|kernel| {
+            let results = [Kernel::Tiled, Kernel::Column, Kernel::SingleColumn].map(|kernel| {
                 let settings = LpvSettings {
                     scheme,
                     lattice,
@@ -255,11 +261,15 @@ fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
                 gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
                 (lpv.lattice.dims, lpv.read_result(&gpu).unwrap())
             });
-            let [(dims, tiled), (_, column)] = results;
+            let [(dims, tiled), (_, column), (_, single)] = results;
             assert!(dims.x >= 24, "{scheme:?} {lattice}: {dims}");
             assert!(
                 tiled == column,
                 "{scheme:?} {dims}: the column kernel's bits differ"
+            );
+            assert!(
+                tiled == single,
+                "{scheme:?} {dims}: the single-column kernel's bits differ"
             );
         }
     }
@@ -2005,7 +2015,10 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
     let entries: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&cache).unwrap()).unwrap();
     let entry = entries.as_object().unwrap().values().next().unwrap();
-    let chosen = entry["kernel"].as_str().unwrap().to_lowercase();
+    let chosen = match entry["kernel"].as_str().unwrap() {
+        "SingleColumn" => "single-column".to_string(),
+        kernel => kernel.to_lowercase(),
+    };
     assert!(
         first_kernel.contains(&format!("propagation kernel: {chosen}")),
         "{first_kernel} against the cache's {chosen}"
@@ -2016,12 +2029,14 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
         "{first_kernel} against the cache's {plan}"
     );
     // Every kernel and plan was a candidate, and each line of the profile names its time.
-    assert_eq!(entry["timings"].as_array().unwrap().len(), 4, "{entry}");
+    assert_eq!(entry["timings"].as_array().unwrap().len(), 6, "{entry}");
     for candidate in [
         "tiled separate",
         "tiled fused",
         "column separate",
         "column fused",
+        "single-column separate",
+        "single-column fused",
     ] {
         assert!(first.contains(&format!("{candidate} ")), "{first}");
     }

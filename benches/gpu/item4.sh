@@ -1,7 +1,7 @@
 #!/bin/bash
 # Issue 18's item 4 on a discrete GPU, in one run: `vkgi profile` of LPV and ILPV (one lattice,
 # 8 steps a frame, as seed 000's Table 4.2 measured them) for every kernel (tiled, naive,
-# column) and channel plan (a dispatch per channel, sequential or one compute queue each;
+# column, single-column) and channel plan (a dispatch per channel, sequential or one compute queue each;
 # the channels fused), then one table of them (benches/gpu/item4_table.py). Not part of CI or
 # `cargo bench`: it needs no build tools, only a built vkgi, so it can run where the GPU is.
 #   bash benches/gpu/item4.sh [VKGI] [OUT]        (defaults: target/release/vkgi, item4)
@@ -19,7 +19,7 @@ device=()
 if [ -n "${DEVICE:-}" ]; then device=(--device "$DEVICE"); fi
 mkdir -p "$out"
 for method in lpv ilpv; do
-  for kernel in tiled naive column; do
+  for kernel in tiled naive column single-column; do
     for plan in separate-sequential separate-async fused-sequential; do
       name="$method-$kernel-$plan"
       echo "== $name" >&2

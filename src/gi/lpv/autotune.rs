@@ -1,9 +1,11 @@
 //! `--kernel auto` and `--channel-plan auto`: which propagation kernel runs, and whether a dispatch
 //! carries one colour channel or all three, is measured on the device, once, and kept.
 //!
-//! The tiled kernel (a shared-memory tile per workgroup) suits GPUs; the column kernel (a
-//! column of cells per thread, its sources in registers and read as texels) suits CPU devices
-//! such as lavapipe, where every storage-buffer load is made lane by lane. A fused dispatch of
+//! The tiled kernel (a shared-memory tile per workgroup) suits GPUs; the column kernels (a
+//! bundle of 2x2 columns of cells, or one column, per thread, their sources in registers and
+//! read as texels) suit CPU devices such as lavapipe, where every storage-buffer load is made
+//! lane by lane: the bundle loads fewer cells a column, the single column keeps a smaller block
+//! of sources, and which is faster depends on the scheme, the plan and the lattice. A fused dispatch of
 //! the three channels reads the geometry and evaluates the blocking once; separate dispatches
 //! are three parts that a device with three compute queues can overlap. All do the same
 //! arithmetic per channel in the same order, and on lavapipe give the same bits (tests/lpv.rs
@@ -13,9 +15,9 @@
 //!
 //! The first lattice of its kind (scheme, lattice size, geometry words, pinned settings) a
 //! process builds on a device times a short propagation of every colour channel with each
-//! candidate (kernel and plan; alternating, a warm-up, then the fastest of five) and takes the
-//! fastest; a candidate that cannot be built there (no tile fits the shared memory, say) is
-//! none. The measurement records the three channels in one command buffer on one queue, so it
+//! candidate (kernel and plan; alternating, each measured run right after an unmeasured one of
+//! its own, the fastest of three) and takes the fastest; a candidate that cannot be built there
+//! (no tile fits the shared memory, say) is none. The measurement records the three channels in one command buffer on one queue, so it
 //! does not see separate channels overlap on a device with a compute queue each (pin
 //! `--channel-plan separate` there to run them async). The choice is kept for the process and in
 //! `kernels.json` in vkgi's cache folder (`$VKGI_CACHE_DIR`, else `$XDG_CACHE_HOME/vkgi`, else
@@ -36,14 +38,15 @@ use super::technique::{
 };
 use crate::gi::registry::Setup;
 
-/// Measured propagations per kernel (after one warm-up); the fastest counts.
-const RUNS: usize = 5;
+/// Measured propagations per kernel, each right after an unmeasured one of the same kernel;
+/// the fastest counts.
+const RUNS: usize = 3;
 /// Steps of each measured propagation.
 const STEPS: u32 = 2;
 /// How the cached timings were taken, in the cache's key: entries timed otherwise (per step
 /// given, where a lattice records fewer; the column kernel in workgroups of 8x8 whatever the
 /// lattice) are measured again.
-const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice";
+const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own";
 
 /// A kernel and plan the autotune measured, and its time.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -73,7 +76,8 @@ impl Choice {
     /// One line for the profile.
     pub fn describe(&self) -> String {
         let name = |kernel: Kernel, plan: ChannelPlan| {
-            format!("{kernel:?} {plan:?}").to_lowercase()
+            let plan = format!("{plan:?}").to_lowercase();
+            format!("{} {plan}", kernel.name())
         };
         let timings: Vec<String> = self
             .timings
@@ -94,7 +98,7 @@ impl Choice {
 fn candidates(settings: &LpvSettings) -> Vec<(Kernel, ChannelPlan)> {
     let kernels = match settings.kernel {
         Some(kernel) => vec![kernel],
-        None => vec![Kernel::Tiled, Kernel::Column],
+        None => vec![Kernel::Tiled, Kernel::Column, Kernel::SingleColumn],
     };
     let plans = match settings.channels {
         Some(plan) => vec![plan],
@@ -179,17 +183,19 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
         return Err(e);
     }
     // Runs alternate between the candidates, so a machine that slows for a while slows all.
-    for run in 0..=RUNS {
+    // Each measured run follows an unmeasured one of the same candidate, so that it finds its
+    // lattices in the caches as a frame's steps do, not evicted by the other candidates' runs
+    // (which, alternating six candidates on lavapipe, ranked LPV's 32³ kernels the wrong way).
+    for _ in 0..RUNS {
         for (timing, lpv) in &mut built {
+            setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
             let start = Instant::now();
             setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
             // A lattice may record fewer steps than it is given (ILPV's last step at λ_incr
             // 0, whose light nothing reads): the time is per step recorded.
             let steps = lpv.steps_run().max(1) as f64;
             let ms = start.elapsed().as_secs_f64() * 1e3 / steps;
-            if run > 0 {
-                timing.ms = timing.ms.min(ms);
-            }
+            timing.ms = timing.ms.min(ms);
         }
     }
     let timings: Vec<Timing> = built.into_iter().map(|(timing, _)| timing).collect();

@@ -89,9 +89,9 @@ const BLOCK_FIRST_STEP: Setting = Setting::new(
 );
 const KERNEL: Setting = Setting::new(
     "kernel",
-    Kind::Choice(&["auto", "tiled", "naive", "column"]),
+    Kind::Choice(&["auto", "tiled", "naive", "column", "single-column"]),
     "auto",
-    "The propagation kernel: auto (the faster of tiled and column on this device, measured once and cached), tiled (a shared-memory tile per workgroup, for GPUs), naive (global memory) or column (a column of cells along z per thread, its sources in registers, for CPU devices); all give the same bits",
+    "The propagation kernel: auto (the fastest of tiled, column and single-column on this device, measured once and cached), tiled (a shared-memory tile per workgroup, for GPUs), naive (global memory), column (a bundle of 2x2 columns of cells along z per thread, its sources in registers, for CPU devices) or single-column (one column a thread); all give the same bits",
 );
 const CHANNEL_PLAN: Setting = Setting::new(
     "channel-plan",
@@ -313,6 +313,7 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
             Some("tiled") => Some(Kernel::Tiled),
             Some("naive") => Some(Kernel::Naive),
             Some("column") => Some(Kernel::Column),
+            Some("single-column") => Some(Kernel::SingleColumn),
             _ => None,
         },
         channels: match s.has("channel-plan").then(|| s.text("channel-plan")).transpose()? {

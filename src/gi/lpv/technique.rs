@@ -173,18 +173,42 @@ pub enum Kernel {
     Tiled,
     /// Each thread gathers from global memory (for comparison).
     Naive,
-    /// Each thread steps along a column of cells in z, keeping the 3x3x3 block of sources
-    /// around its cell in registers and loading only the plane ahead (ILPV 9 cells instead of
-    /// 27, LPV the plus of 5 its face neighbours need), with no shared memory and no barrier
-    /// (for CPU devices, where every load is made lane by lane).
+    /// Each thread steps along z through a bundle of 2x2 neighbouring columns of cells,
+    /// keeping the block of sources around them in registers and loading only the plane ahead,
+    /// once for the four columns (ILPV 16 cells, 4 a column; LPV the 12 its face neighbours
+    /// need, 3 a column), with no shared memory and no barrier (for CPU devices, where every
+    /// load is made lane by lane).
     Column,
+    /// The column kernel with one column a thread: more cells loaded a column (ILPV 9, LPV 5),
+    /// a smaller block of sources to keep (on lavapipe, faster for some lattices: the autotune
+    /// measures it).
+    SingleColumn,
 }
 
 impl Kernel {
     /// Whether the kernel reads its source lattice, the geometry and the accumulation as texel
     /// buffers.
     pub fn reads_texels(self) -> bool {
-        self == Kernel::Column
+        self.column_bundle().is_some()
+    }
+
+    /// The kernel's name on the command line (`--kernel`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Tiled => "tiled",
+            Kernel::Naive => "naive",
+            Kernel::Column => "column",
+            Kernel::SingleColumn => "single-column",
+        }
+    }
+
+    /// The side of the square bundle of columns a thread of a column kernel walks.
+    pub fn column_bundle(self) -> Option<u32> {
+        match self {
+            Kernel::Column => Some(2),
+            Kernel::SingleColumn => Some(1),
+            Kernel::Tiled | Kernel::Naive => None,
+        }
     }
 }
 
@@ -424,33 +448,31 @@ const TILE_CANDIDATES: [[u32; 3]; 6] = [
 const Z_PAD: u32 = 1;
 /// Workgroup of the naive kernels.
 const NAIVE_GROUP: [u32; 3] = [4, 4, 4];
-/// Threads in a workgroup of the column kernels ([`column_group`]): one per bundle of
-/// [`COLUMN_BUNDLE`]² columns, each stepping through [`column_cells`] cells along z.
+/// Threads in a workgroup of the column kernels ([`column_group`]): one per bundle of columns
+/// ([`Kernel::column_bundle`]), each stepping through [`column_cells`] cells along z.
 const COLUMN_THREADS: u32 = 64;
 /// Bundles a column kernel's workgroup spans along x at most.
 const COLUMN_GROUP_WIDEST: u32 = 32;
-/// Side of the square bundle of neighbouring columns a column-kernel thread walks at once: the
-/// plane ahead of a 2x2 bundle is 16 cells read once for 4 columns, where one column reads 9.
-const COLUMN_BUNDLE: u32 = 2;
 /// Workgroups a column kernel's dispatch should have at least, to keep every core busy.
 const COLUMN_MIN_WORKGROUPS: u32 = 8;
 
-/// The workgroup of the column kernel for a lattice of `dims`: [`COLUMN_THREADS`] threads
-/// spanning as many bundles along x as the lattice has (a power of two from 8 to
-/// [`COLUMN_GROUP_WIDEST`]), so that in each plane its SIMD batches read long runs of
-/// contiguous cells (on lavapipe a 64³ lattice's step takes 12-18% less time than in
-/// workgroups of 8x8; docs/performance.md).
-pub fn column_group(dims: [u32; 3]) -> [u32; 3] {
-    let x = column_bundles(dims)[0].next_power_of_two().clamp(8, COLUMN_GROUP_WIDEST);
+/// The workgroup of a column kernel walking bundles of `bundle`² columns in a lattice of
+/// `dims`: [`COLUMN_THREADS`] threads spanning as many bundles along x as the lattice has (a
+/// power of two from 8 to [`COLUMN_GROUP_WIDEST`]), so that in each plane its SIMD batches read
+/// long runs of contiguous cells (on lavapipe a 64³ lattice's step takes 12-18% less time than
+/// in workgroups of 8x8; docs/performance.md).
+pub fn column_group(dims: [u32; 3], bundle: u32) -> [u32; 3] {
+    let x = column_bundles(dims, bundle)[0].next_power_of_two().clamp(8, COLUMN_GROUP_WIDEST);
     [x, COLUMN_THREADS / x, 1]
 }
 
-/// Cells along z each thread of a column kernel propagates in a lattice of `dims` cells: the
-/// whole column (the two planes it starts with are loaded once per column, not per step) unless
-/// that leaves fewer than [`COLUMN_MIN_WORKGROUPS`] workgroups, then the column split evenly.
-pub fn column_cells(dims: [u32; 3]) -> u32 {
-    let [x, y] = column_bundles(dims);
-    let [group_x, group_y, _] = column_group(dims);
+/// Cells along z each thread of a column kernel walking bundles of `bundle`² columns propagates
+/// in a lattice of `dims` cells: the whole column (the two planes it starts with are loaded once
+/// per column, not per step) unless that leaves fewer than [`COLUMN_MIN_WORKGROUPS`]
+/// workgroups, then the column split evenly.
+pub fn column_cells(dims: [u32; 3], bundle: u32) -> u32 {
+    let [x, y] = column_bundles(dims, bundle);
+    let [group_x, group_y, _] = column_group(dims, bundle);
     let across = x.div_ceil(group_x) * y.div_ceil(group_y);
     let pieces = COLUMN_MIN_WORKGROUPS.div_ceil(across).min(dims[2]);
     dims[2].div_ceil(pieces)
@@ -461,13 +483,14 @@ pub fn column_cells(dims: [u32; 3]) -> u32 {
 /// SPIR-V does.
 pub fn column_shape() -> String {
     format!(
-        "column bundles {COLUMN_BUNDLE}x{COLUMN_BUNDLE}, {COLUMN_THREADS} threads up to {COLUMN_GROUP_WIDEST} wide, {COLUMN_MIN_WORKGROUPS} workgroups at least"
+        "column bundles 2x2 and 1x1, {COLUMN_THREADS} threads up to {COLUMN_GROUP_WIDEST} wide, {COLUMN_MIN_WORKGROUPS} workgroups at least"
     )
 }
 
-/// Bundles of columns a column kernel's threads take across x and y of a lattice of `dims`.
-fn column_bundles(dims: [u32; 3]) -> [u32; 2] {
-    [dims[0].div_ceil(COLUMN_BUNDLE), dims[1].div_ceil(COLUMN_BUNDLE)]
+/// Bundles of `bundle`² columns a column kernel's threads take across x and y of a lattice of
+/// `dims`.
+fn column_bundles(dims: [u32; 3], bundle: u32) -> [u32; 2] {
+    [dims[0].div_ceil(bundle), dims[1].div_ceil(bundle)]
 }
 
 /// Shared memory a tile of `t` cells needs: light (one word per cell and channel) and
@@ -498,14 +521,22 @@ pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &
         (Scheme::Ilpv, Kernel::Tiled, Fused) => shaders::GI_LPV_ILPV_TILED_RGB_COMP,
         (Scheme::Ilpv, Kernel::Naive, Separate) => shaders::GI_LPV_ILPV_NAIVE_COMP,
         (Scheme::Ilpv, Kernel::Naive, Fused) => shaders::GI_LPV_ILPV_NAIVE_RGB_COMP,
-        (Scheme::Ilpv, Kernel::Column, Separate) => shaders::GI_LPV_ILPV_COLUMN_COMP,
-        (Scheme::Ilpv, Kernel::Column, Fused) => shaders::GI_LPV_ILPV_COLUMN_RGB_COMP,
+        (Scheme::Ilpv, Kernel::Column | Kernel::SingleColumn, Separate) => {
+            shaders::GI_LPV_ILPV_COLUMN_COMP
+        }
+        (Scheme::Ilpv, Kernel::Column | Kernel::SingleColumn, Fused) => {
+            shaders::GI_LPV_ILPV_COLUMN_RGB_COMP
+        }
         (Scheme::Lpv, Kernel::Tiled, Separate) => shaders::GI_LPV_LPV_TILED_COMP,
         (Scheme::Lpv, Kernel::Tiled, Fused) => shaders::GI_LPV_LPV_TILED_RGB_COMP,
         (Scheme::Lpv, Kernel::Naive, Separate) => shaders::GI_LPV_LPV_NAIVE_COMP,
         (Scheme::Lpv, Kernel::Naive, Fused) => shaders::GI_LPV_LPV_NAIVE_RGB_COMP,
-        (Scheme::Lpv, Kernel::Column, Separate) => shaders::GI_LPV_LPV_COLUMN_COMP,
-        (Scheme::Lpv, Kernel::Column, Fused) => shaders::GI_LPV_LPV_COLUMN_RGB_COMP,
+        (Scheme::Lpv, Kernel::Column | Kernel::SingleColumn, Separate) => {
+            shaders::GI_LPV_LPV_COLUMN_COMP
+        }
+        (Scheme::Lpv, Kernel::Column | Kernel::SingleColumn, Fused) => {
+            shaders::GI_LPV_LPV_COLUMN_RGB_COMP
+        }
     }
 }
 
@@ -794,6 +825,7 @@ impl Lpv {
         (setup.progress)("geometry lattice", 1.0);
 
         let shared = gpu.info.max_shared_memory_bytes;
+        let bundle = kernel.column_bundle();
         let tile = match kernel {
             Kernel::Tiled => choose_tile(
                 shared,
@@ -807,20 +839,22 @@ impl Lpv {
                 )
             })?,
             Kernel::Naive => NAIVE_GROUP,
-            Kernel::Column => column_group(lattice.dims.to_array()),
+            Kernel::Column | Kernel::SingleColumn => {
+                column_group(lattice.dims.to_array(), bundle.unwrap_or(1))
+            }
         };
         let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
-        let column = column_cells(lattice.dims.to_array());
+        let column = column_cells(lattice.dims.to_array(), bundle.unwrap_or(1));
         let propagate_threads = propagation_threads(kernel, lattice.dims.to_array(), tile, column);
         let mut spec = Specialization::new()
             .with_u32(0, tile[0])
             .with_u32(1, tile[1])
             .with_u32(2, tile[2])
             .with_u32(4, geometry_words);
-        match kernel {
-            Kernel::Tiled => spec = spec.with_u32(3, Z_PAD),
-            Kernel::Column => spec = spec.with_u32(5, column).with_u32(6, COLUMN_BUNDLE),
-            Kernel::Naive => {}
+        match (kernel, bundle) {
+            (Kernel::Tiled, _) => spec = spec.with_u32(3, Z_PAD),
+            (_, Some(bundle)) => spec = spec.with_u32(5, column).with_u32(6, bundle),
+            (_, None) => {}
         }
         let none = Specialization::new();
         let propagate_name = match settings.scheme {
@@ -1518,12 +1552,12 @@ impl Lpv {
 /// column kernel: per piece of `column` cells of a bundle of columns), in whole workgroups of
 /// `group`.
 fn propagation_threads(kernel: Kernel, dims: [u32; 3], group: [u32; 3], column: u32) -> [u32; 3] {
-    let threads = match kernel {
-        Kernel::Column => {
-            let [x, y] = column_bundles(dims);
+    let threads = match kernel.column_bundle() {
+        Some(bundle) => {
+            let [x, y] = column_bundles(dims, bundle);
             [x, y, dims[2].div_ceil(column)]
         }
-        Kernel::Tiled | Kernel::Naive => dims,
+        None => dims,
     };
     [0, 1, 2].map(|i| threads[i].div_ceil(group[i]) * group[i])
 }
@@ -1779,10 +1813,14 @@ impl GiMethod for Lpv {
                 self.device_shared_bytes
             ),
             Kernel::Naive => format!("naive (global memory, workgroup {tx}x{ty}x{tz})"),
-            Kernel::Column => format!(
-                "column ({} cells along z of {COLUMN_BUNDLE}x{COLUMN_BUNDLE} columns per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
-                column_cells(d.to_array())
-            ),
+            Kernel::Column | Kernel::SingleColumn => {
+                let bundle = self.kernel.column_bundle().unwrap_or(1);
+                format!(
+                    "{} ({} cells along z of {bundle}x{bundle} columns per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
+                    self.kernel.name(),
+                    column_cells(d.to_array(), bundle)
+                )
+            }
         };
         let plan = match self.plan {
             ChannelPlan::Separate => "separate (a dispatch per colour channel)",
@@ -1819,32 +1857,41 @@ mod tests {
     #[test]
     fn column_threads_take_whole_columns_unless_the_cores_would_idle() {
         // 32x32 bundles of 2x2 columns: 16 workgroups across.
-        assert_eq!(column_cells([64, 63, 64]), 64);
+        assert_eq!(column_cells([64, 63, 64], 2), 64);
         // 4 workgroups across: each column in two halves.
-        assert_eq!(column_cells([32, 32, 32]), 16);
-        assert_eq!(column_cells([32, 31, 32]), 16);
+        assert_eq!(column_cells([32, 32, 32], 2), 16);
+        assert_eq!(column_cells([32, 31, 32], 2), 16);
+        // One column a thread: 16 workgroups across, whole columns.
+        assert_eq!(column_cells([32, 32, 32], 1), 32);
         // One workgroup across: 8 pieces of each column.
-        assert_eq!(column_cells([16, 16, 16]), 2);
-        assert_eq!(column_cells([9, 9, 9]), 2);
-        assert_eq!(column_cells([8, 8, 8]), 1);
-        assert_eq!(column_cells([2, 2, 1]), 1);
+        assert_eq!(column_cells([16, 16, 16], 2), 2);
+        assert_eq!(column_cells([9, 9, 9], 2), 2);
+        assert_eq!(column_cells([8, 8, 8], 2), 1);
+        assert_eq!(column_cells([2, 2, 1], 2), 1);
     }
 
     #[test]
     fn column_threads_cover_the_lattice_in_bundles() {
-        assert_eq!(column_bundles([64, 63, 64]), [32, 32]);
-        let threads = |dims| propagation_threads(Kernel::Column, dims, column_group(dims), column_cells(dims));
-        assert_eq!(threads([9, 9, 9]), [8, 8, 5]);
-        assert_eq!(threads([64, 63, 64]), [32, 32, 1]);
-        assert_eq!(threads([100, 40, 20]), [64, 20, 1]);
+        assert_eq!(column_bundles([64, 63, 64], 2), [32, 32]);
+        assert_eq!(column_bundles([64, 63, 64], 1), [64, 63]);
+        let threads = |kernel: Kernel, dims| {
+            let bundle = kernel.column_bundle().unwrap();
+            let group = column_group(dims, bundle);
+            propagation_threads(kernel, dims, group, column_cells(dims, bundle))
+        };
+        assert_eq!(threads(Kernel::Column, [9, 9, 9]), [8, 8, 5]);
+        assert_eq!(threads(Kernel::Column, [64, 63, 64]), [32, 32, 1]);
+        assert_eq!(threads(Kernel::Column, [100, 40, 20]), [64, 20, 1]);
+        assert_eq!(threads(Kernel::SingleColumn, [64, 63, 64]), [64, 64, 1]);
     }
 
     #[test]
     fn column_workgroups_span_the_lattices_bundles_along_x_up_to_32() {
-        assert_eq!(column_group([8, 8, 8]), [8, 8, 1]);
-        assert_eq!(column_group([9, 9, 9]), [8, 8, 1]);
-        assert_eq!(column_group([32, 32, 32]), [16, 4, 1]);
-        assert_eq!(column_group([64, 63, 64]), [32, 2, 1]);
-        assert_eq!(column_group([256, 256, 256]), [32, 2, 1]);
+        assert_eq!(column_group([8, 8, 8], 2), [8, 8, 1]);
+        assert_eq!(column_group([9, 9, 9], 2), [8, 8, 1]);
+        assert_eq!(column_group([32, 32, 32], 2), [16, 4, 1]);
+        assert_eq!(column_group([32, 32, 32], 1), [32, 2, 1]);
+        assert_eq!(column_group([64, 63, 64], 2), [32, 2, 1]);
+        assert_eq!(column_group([256, 256, 256], 2), [32, 2, 1]);
     }
 }
