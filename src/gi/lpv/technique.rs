@@ -826,8 +826,8 @@ impl Lpv {
 
         let shared = gpu.info.max_shared_memory_bytes;
         let bundle = kernel.column_bundle();
-        let tile = match kernel {
-            Kernel::Tiled => choose_tile(
+        let tile = match (kernel, bundle) {
+            (Kernel::Tiled, _) => choose_tile(
                 shared,
                 gpu.info.max_workgroup_invocations,
                 geometry_words,
@@ -838,13 +838,12 @@ impl Lpv {
                     "no propagation tile of {channels} channel(s) fits {shared} bytes of shared memory"
                 )
             })?,
-            Kernel::Naive => NAIVE_GROUP,
-            Kernel::Column | Kernel::SingleColumn => {
-                column_group(lattice.dims.to_array(), bundle.unwrap_or(1))
-            }
+            (_, Some(bundle)) => column_group(lattice.dims.to_array(), bundle),
+            (_, None) => NAIVE_GROUP,
         };
         let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
-        let column = column_cells(lattice.dims.to_array(), bundle.unwrap_or(1));
+        // Cells a column kernel's thread walks (unused by the other kernels).
+        let column = bundle.map_or(1, |bundle| column_cells(lattice.dims.to_array(), bundle));
         let propagate_threads = propagation_threads(kernel, lattice.dims.to_array(), tile, column);
         let mut spec = Specialization::new()
             .with_u32(0, tile[0])
@@ -1806,21 +1805,18 @@ impl GiMethod for Lpv {
     fn describe(&self) -> Vec<String> {
         let d = self.lattice.dims;
         let [tx, ty, tz] = self.tile;
-        let kernel = match self.kernel {
-            Kernel::Tiled => format!(
+        let kernel = match (self.kernel, self.kernel.column_bundle()) {
+            (Kernel::Tiled, _) => format!(
                 "tiled {tx}x{ty}x{tz} (shared {} of {} bytes, z padded by {Z_PAD})",
                 tile_shared_bytes(self.tile, self.geometry_words(), self.plan.channels()),
                 self.device_shared_bytes
             ),
-            Kernel::Naive => format!("naive (global memory, workgroup {tx}x{ty}x{tz})"),
-            Kernel::Column | Kernel::SingleColumn => {
-                let bundle = self.kernel.column_bundle().unwrap_or(1);
-                format!(
-                    "{} ({} cells along z of {bundle}x{bundle} columns per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
-                    self.kernel.name(),
-                    column_cells(d.to_array(), bundle)
-                )
-            }
+            (_, Some(bundle)) => format!(
+                "{} ({} cells along z of {bundle}x{bundle} columns per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
+                self.kernel.name(),
+                column_cells(d.to_array(), bundle)
+            ),
+            (_, None) => format!("naive (global memory, workgroup {tx}x{ty}x{tz})"),
         };
         let plan = match self.plan {
             ChannelPlan::Separate => "separate (a dispatch per colour channel)",
