@@ -2015,10 +2015,9 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
     let entries: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&cache).unwrap()).unwrap();
     let entry = entries.as_object().unwrap().values().next().unwrap();
-    let chosen = match entry["kernel"].as_str().unwrap() {
-        "SingleColumn" => "single-column".to_string(),
-        kernel => kernel.to_lowercase(),
-    };
+    let chosen = serde_json::from_value::<Kernel>(entry["kernel"].clone())
+        .unwrap()
+        .name();
     assert!(
         first_kernel.contains(&format!("propagation kernel: {chosen}")),
         "{first_kernel} against the cache's {chosen}"
@@ -2038,7 +2037,13 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
         "single-column separate",
         "single-column fused",
     ] {
-        assert!(first.contains(&format!("{candidate} ")), "{first}");
+        // Each time follows ": " (the first) or ", " (the rest), so "column fused" cannot
+        // match inside "single-column fused".
+        assert!(
+            first.contains(&format!(": {candidate} "))
+                || first.contains(&format!(", {candidate} ")),
+            "{first}"
+        );
     }
     let (second, second_kernel) = profile();
     assert!(second.contains("cached in"), "{second}");

@@ -5,7 +5,8 @@ Table 4.2, and the frame.
 
 The 8 steps are the passes' own times, so for the async plan they are the work, not the span
 its queues overlap: the frame's median is what shows the overlap (async against sequential).
-Usage: python3 item4_table.py PROFILE.json...  (file names METHOD-KERNEL-PLAN-PARTS.json)."""
+Usage: python3 item4_table.py PROFILE.json...  (file names METHOD-KERNEL-PLAN-PARTS-LATTICE.json,
+or METHOD-KERNEL-PLAN-PARTS.json for a profile of several lattices)."""
 
 import json
 import os
@@ -17,7 +18,9 @@ THESIS_MS = {"32": 2.7, "64": 18.2, "128": 140.9}
 
 def rows(path):
     """The table's rows for one profile."""
-    variant = os.path.basename(path)[: -len(".json")]
+    name = os.path.basename(path)[: -len(".json")]
+    head, _, last = name.rpartition("-")
+    variant = head if last.isdigit() else name
     with open(path) as f:
         profile = json.load(f)
     for config in profile["configs"]:
@@ -46,7 +49,10 @@ def rows(path):
 def main(paths):
     if not paths:
         sys.exit("usage: item4_table.py PROFILE.json...")
-    table = [row for path in sorted(paths) for row in rows(path)]
+    table = sorted(
+        (row for path in paths for row in rows(path)),
+        key=lambda row: (row["variant"], int(row["lattice"])),
+    )
     devices = sorted({row["device"] for row in table})
     print(f"device: {', '.join(devices)}\n")
     print(

@@ -45,7 +45,7 @@ const RUNS: usize = 3;
 const STEPS: u32 = 2;
 /// How the cached timings were taken, in the cache's key: entries timed otherwise (per step
 /// given, where a lattice records fewer; the column kernel in workgroups of 8x8 whatever the
-/// lattice) are measured again.
+/// lattice; runs not warmed by one of their own) are measured again.
 const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own";
 
 /// A kernel and plan the autotune measured, and its time.
@@ -152,7 +152,7 @@ pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
 
 /// Time a propagation of [`STEPS`] steps of every channel with each candidate on a lattice of
 /// these settings (all candidates are built first and held together, so that their runs can
-/// alternate: four lattices' memory for the measurement's length).
+/// alternate: six lattices' memory for the measurement's length).
 fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     let probe = |kernel, plan| {
         let settings = LpvSettings {
