@@ -154,12 +154,7 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     // Every kernel does the same arithmetic per channel in the same order, whether a dispatch
     // carries one channel or three: the same bits, whichever runs.
     let mut first_kernel_results = std::collections::HashMap::new();
-    let kernels = [
-        Kernel::Tiled,
-        Kernel::Naive,
-        Kernel::Column,
-        Kernel::SingleColumn,
-    ];
+    let kernels = Kernel::ALL;
     let plans = [ChannelPlan::Separate, ChannelPlan::Fused];
     for scheme in [Scheme::Ilpv, Scheme::Lpv] {
         for (kernel, plan) in kernels.iter().flat_map(|&k| plans.map(|p| (k, p))) {

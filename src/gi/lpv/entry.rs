@@ -309,12 +309,10 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         blocking_lobe,
         blocking_strength: float_or("blocking-strength", defaults.blocking_strength)?,
         first_step_unblocked: !flag("block-first-step")?,
+        // "auto" names no kernel: the autotune chooses.
         kernel: match s.has("kernel").then(|| s.text("kernel")).transpose()? {
-            Some("tiled") => Some(Kernel::Tiled),
-            Some("naive") => Some(Kernel::Naive),
-            Some("column") => Some(Kernel::Column),
-            Some("single-column") => Some(Kernel::SingleColumn),
-            _ => None,
+            Some(name) => Kernel::ALL.into_iter().find(|k| k.name() == name),
+            None => None,
         },
         channels: match s.has("channel-plan").then(|| s.text("channel-plan")).transpose()? {
             Some("separate") => Some(ChannelPlan::Separate),

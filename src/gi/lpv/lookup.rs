@@ -172,7 +172,8 @@ impl LatticeReads<'_> {
 
 /// Cells of zero around the lattice in the lookup's 3-D images: the lookup samples them
 /// clamped to the edge, which costs lavapipe's sampler less than a border colour
-/// (docs/performance-log.md, "This round (27 November): the lookup's border") and gives the same transparent black outside the lattice.
+/// (docs/performance-log.md, "This round (27 November): the lookup's border") and gives the
+/// same transparent black outside the lattice.
 pub const LOOKUP_BORDER: u32 = 1;
 
 /// One lattice as the lookup reads it.

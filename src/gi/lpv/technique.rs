@@ -186,6 +186,14 @@ pub enum Kernel {
 }
 
 impl Kernel {
+    /// Every kernel, in the order `--kernel` lists them.
+    pub const ALL: [Kernel; 4] = [
+        Kernel::Tiled,
+        Kernel::Naive,
+        Kernel::Column,
+        Kernel::SingleColumn,
+    ];
+
     /// Whether the kernel reads its source lattice, the geometry and the accumulation as texel
     /// buffers.
     pub fn reads_texels(self) -> bool {
