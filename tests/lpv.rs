@@ -228,6 +228,60 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     common::assert_no_validation_errors(&gpu);
 }
 
+/// Where nothing reads a step's result (ILPV at λ_incr 0 and 2 steps: one step runs and its
+/// light only goes into the accumulation, as in a two-scale near field), the step writes the
+/// accumulation alone. With the clamp compensation (which applies the medium before the step)
+/// and without it (the step applies it), every kernel and plan gives the f64 reference's
+/// accumulation, and the same bits.
+#[test]
+fn a_step_whose_result_nothing_reads_accumulates_as_the_reference() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let plans = [ChannelPlan::Separate, ChannelPlan::Fused];
+    for clamp_compensation in [true, false] {
+        let mut first_result = None;
+        for (kernel, plan) in Kernel::ALL.iter().flat_map(|&k| plans.map(|p| (k, p))) {
+            let settings = LpvSettings {
+                lattice: 9,
+                iterations: 2,
+                incremental: 0.0,
+                kernel: Some(kernel),
+                channels: Some(plan),
+                clamp_compensation,
+                scattering: 0.3,
+                absorption: 0.2,
+                extinction: vkgi::gi::lpv::Extinction::Physical,
+                ..LpvSettings::default()
+            };
+            let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
+            let cells = lpv.lattice.cell_count();
+            let starts = [4, 5, 6].map(|seed| random_lattice(cells, 1.0, seed));
+            let geometry = random_geometry(BlockingLobe::TwoSided, cells, 0.6, 7);
+            lpv.load_lattices(&gpu, &starts.clone().map(|s| to_f32(&s)))
+                .unwrap();
+            lpv.load_geometry(&gpu, &geometry).unwrap();
+            gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
+            let result = lpv.read_result(&gpu).unwrap();
+            for c in 0..3 {
+                let (_, acc) = cpu_propagate(&lpv, &starts[c], &geometry, 2);
+                let error = relative_error(&result[c], &acc);
+                assert!(
+                    error < 1e-4,
+                    "{kernel:?} {plan:?} compensation {clamp_compensation} channel {c}: relative error {error:e}"
+                );
+            }
+            match &first_result {
+                None => first_result = Some(result),
+                Some(first) => assert!(
+                    *first == result,
+                    "{kernel:?} {plan:?} compensation {clamp_compensation}: other bits than tiled separate"
+                ),
+            }
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
 /// The column kernels' workgroups span a lattice's bundles along x (2x2 columns a thread: 16x4
 /// for 24 cells across, 32x2 for 40; one column a thread: 32x2 for both): the same bits as the
 /// tiled kernel, whose workgroups are tiles.

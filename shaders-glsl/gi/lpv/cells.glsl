@@ -78,8 +78,14 @@ vec4 stored_geometry(uint k, uint w) {
     return READ_CELL(geometry_cells, k * GEOMETRY_WORDS + w);
 }
 
+// 0 where nothing reads a step's result (one step a frame whose light is neither carried nor
+// looked up: a two-scale near field): the step writes only the accumulation. A constant, so the
+// stores are compiled away (a branch would not skip them on lavapipe).
+layout(constant_id = 7) const uint WRITES_RESULT = 1u;
+
 // Cell `i`'s new light in every channel.
 void store_light(uint i, Light light) {
+    if (WRITES_RESULT == 0u) return;
     destination_r[i] = light.c[0];
 #if CHANNELS == 3
     destination_g[i] = light.c[1];

@@ -26,6 +26,11 @@ layout(push_constant) uniform Push {
 
 #include "gi/lpv/tile.glsl"
 
+// 0 where the clamp compensation applies the medium before the step (or there is none): the
+// step then only transports (keep 1, no outscattering), and the terms that would multiply by 1
+// and add 0 are compiled away, with the same bits.
+layout(constant_id = 8) const uint STEP_MEDIUM = 1u;
+
 // The neighbours' constants, read by load_step_constants() at the top of main, outside every
 // branch and loop: read where they are used, inside the column's loop, they cost lavapipe
 // 1.5x this step's time (docs/performance.md).
@@ -58,9 +63,13 @@ Light gather(ivec3 cell) {
         float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
         [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
             vec4 src = source_light(cell, -offset, c);
-            float outscattered = src.x * pc.scatter_energy;
-            float factor = (max(pc.keep * dot(src, transfer), 0.0) + outscattered * neighbour_outscatter[d]) * blocking;
-            dst.c[c] += transfer * factor;
+            float transported = max(dot(src, transfer), 0.0);
+            if (STEP_MEDIUM != 0u) {
+                float outscattered = src.x * pc.scatter_energy;
+                transported = max(pc.keep * dot(src, transfer), 0.0)
+                              + outscattered * neighbour_outscatter[d];
+            }
+            dst.c[c] += transfer * (transported * blocking);
         }
     }
     return dst;

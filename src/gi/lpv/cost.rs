@@ -4,12 +4,15 @@
 //! ILPV (26 neighbours): the gather reads the light SH and the geometry of the cell and its
 //! neighbours; with perfect reuse each cell's light (16 B) and geometry (16 B for an SH lobe,
 //! 48 B for the projected-area model, 64 B for visibility) are read once and its result written
-//! once (16 B), plus a read-modify-write of the accumulation (32 B) when accumulating. Per
+//! once (16 B; not where nothing reads it, as in a two-scale near field's one step a frame),
+//! plus a read-modify-write of the accumulation (32 B) when accumulating. Per
 //! neighbour: ⟨src|Γ⟩ 7, the blocking function (⟨B|Γ⟩ 7; the projected area: oᵀMo 12, the trace
 //! 2, the product and the root 2, S·|o| 5, the min 1, V·o 5, the sum and half 2: 29; visibility:
 //! picking the entry 2), the outscattered energy 1, the clamp 2, the factor 4 (mul, fma, mul, max)
 //! and dst += Γ·f 8: 29 flops with an SH lobe (754 per cell), 51 with the projected area (1326),
-//! 24 with visibility (624).
+//! 24 with visibility (624). Where the clamp compensation applies the medium before the step
+//! (the default) the step only transports: no outscattered energy, and the factor a max and a
+//! mul, 3 flops fewer per channel.
 //!
 //! LPV (6 neighbours, 5 faces): the same bytes (light and geometry read, result written, the
 //! accumulation read and written every step). Per face ⟨src|eval⟩ 7, max 1, blocking 1,
@@ -55,27 +58,41 @@ fn blocking_flops(geometry_words: u32) -> f64 {
     }
 }
 
+/// What a step writes: its result lattice (not where nothing reads it) and its addition to the
+/// accumulation.
+#[derive(Clone, Copy, Debug)]
+pub struct StepWrites {
+    pub result: bool,
+    pub accumulation: bool,
+}
+
 /// Bytes a step must move per cell and channel at the ideal (each cell read and written once),
 /// when a dispatch carries `channels` colour channels (1 or 3).
-pub fn bytes_per_cell(scheme: Scheme, accumulate: bool, geometry_words: u32, channels: u32) -> f64 {
+pub fn bytes_per_cell(scheme: Scheme, writes: StepWrites, geometry_words: u32, channels: u32) -> f64 {
     let geometry = 16.0 * f64::from(geometry_words) / f64::from(channels);
-    let streaming = 16.0 + geometry + 16.0;
+    let result = if writes.result { 16.0 } else { 0.0 };
+    let streaming = 16.0 + geometry + result;
     let accumulation = match scheme {
         Scheme::Lpv => 32.0,
-        Scheme::Ilpv if accumulate => 32.0,
+        Scheme::Ilpv if writes.accumulation => 32.0,
         Scheme::Ilpv => 0.0,
     };
     streaming + accumulation
 }
 
 /// Floating-point operations a step performs per cell and channel, when a dispatch carries
-/// `channels` colour channels (1 or 3) and evaluates the blocking once for all of them.
-pub fn flops_per_cell(scheme: Scheme, geometry_words: u32, channels: u32) -> f64 {
+/// `channels` colour channels (1 or 3) and evaluates the blocking once for all of them; `medium`:
+/// whether an ILPV step applies absorption and scattering itself.
+pub fn flops_per_cell(scheme: Scheme, medium: bool, geometry_words: u32, channels: u32) -> f64 {
     let channels = f64::from(channels);
     let blocking = blocking_flops(geometry_words);
     match scheme {
-        // Per neighbour 20 per channel; the blocking function and its clamp (2) once.
-        Scheme::Ilpv => 26.0 * (20.0 + (blocking + 2.0) / channels),
+        // Per neighbour 20 per channel (17 without the medium: the outscattered energy and
+        // the factor's mul and fma); the blocking function and its clamp (2) once.
+        Scheme::Ilpv => {
+            let per_channel = if medium { 20.0 } else { 17.0 };
+            26.0 * (per_channel + (blocking + 2.0) / channels)
+        }
         Scheme::Lpv => {
             let mean = if geometry_words == 1 { 5.0 } else { 0.0 };
             6.0 * (5.0 * 17.0 + (mean + blocking + 2.0) / channels)
@@ -114,19 +131,27 @@ mod tests {
 
     #[test]
     fn counts_follow_the_derivation() {
-        assert_eq!(flops_per_cell(Scheme::Ilpv, 1, 1), 754.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 1, 1), 594.0);
-        assert_eq!(flops_per_cell(Scheme::Ilpv, 3, 1), 1326.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 3, 1), 696.0);
-        assert_eq!(flops_per_cell(Scheme::Ilpv, 4, 1), 624.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 4, 1), 534.0);
-        assert_eq!(flops_per_cell(Scheme::Ilpv, 1, 3), 598.0);
-        assert_eq!(flops_per_cell(Scheme::Lpv, 1, 3), 538.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 1, 1), 48.0);
-        assert_eq!(bytes_per_cell(Scheme::Lpv, true, 1, 1), 80.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3, 1), 80.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 4, 1), 96.0);
-        assert_eq!(bytes_per_cell(Scheme::Ilpv, false, 3, 3), 48.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, true, 1, 1), 754.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, false, 1, 1), 594.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, true, 3, 1), 1326.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, false, 3, 1), 696.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, true, 4, 1), 624.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, false, 4, 1), 534.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, true, 1, 3), 598.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, false, 1, 3), 520.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, false, 1, 3), 538.0);
+        let writes = |result, accumulation| StepWrites {
+            result,
+            accumulation,
+        };
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, writes(true, false), 1, 1), 48.0);
+        assert_eq!(bytes_per_cell(Scheme::Lpv, writes(true, true), 1, 1), 80.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, writes(true, false), 3, 1), 80.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, writes(true, false), 4, 1), 96.0);
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, writes(true, false), 3, 3), 48.0);
+        // A two-scale near field's step writes the accumulation alone.
+        let near_field = bytes_per_cell(Scheme::Ilpv, writes(false, true), 1, 3);
+        assert!((near_field - 160.0 / 3.0).abs() < 1e-12, "{near_field}");
         assert_eq!(lookup_flops_per_pixel(1), 275.0);
         assert_eq!(lookup_flops_per_pixel(2), 538.0);
         assert_eq!(half_lookup_flops_per_texel(1), 300.0);

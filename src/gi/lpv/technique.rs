@@ -8,7 +8,7 @@ use glam::DVec4;
 
 use super::autotune;
 use super::bindings as ids;
-use super::cost;
+use super::cost::{self, StepWrites};
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
 use super::lookup::{
@@ -345,6 +345,43 @@ impl LpvSettings {
             ));
         }
         Ok(())
+    }
+
+    fn reads_final(&self) -> bool {
+        self.scheme == Scheme::Ilpv && self.ilpv_lookup == IlpvLookup::Final
+    }
+
+    /// Whether the light of a frame's last step goes on: carried into the next frame (ILPV at
+    /// λ_incr above 0) or looked up alone (ILPV's final lookup).
+    fn last_result_read(&self) -> bool {
+        self.scheme == Scheme::Ilpv && (self.incremental > 0.0 || self.reads_final())
+    }
+
+    /// Steps recorded per frame: all of them, but for accumulated ILPV at λ_incr 0 one fewer,
+    /// since the last step's result is neither looked up nor carried (a two-scale near field of
+    /// 2 steps runs 1).
+    pub(super) fn steps_run(&self) -> usize {
+        let steps = self.iterations as usize;
+        match self.scheme {
+            Scheme::Ilpv if !self.last_result_read() => steps.saturating_sub(1),
+            _ => steps,
+        }
+    }
+
+    /// Whether anything reads a step's result lattice (a later step, the next frame or the
+    /// lookup): not where one step runs a frame and its light only goes into the accumulation
+    /// (a two-scale near field at its default 2 steps, classic LPV of one step), whose step
+    /// then writes the accumulation alone.
+    pub(super) fn step_results_read(&self) -> bool {
+        self.steps_run() > 1 || self.last_result_read()
+    }
+
+    /// Whether the ILPV step applies the medium (absorption and scattering) itself: not with
+    /// clamp compensation, which applies it before the step, nor without a medium.
+    pub(super) fn step_applies_medium(&self, cell_size: f32) -> bool {
+        self.scheme == Scheme::Ilpv
+            && !self.clamp_compensation
+            && self.medium(cell_size) != (0.0, 0.0)
     }
 
     /// Lattice-normalised (λa, λs), clamped so that λa + λs ≤ 1.
@@ -857,7 +894,11 @@ impl Lpv {
             .with_u32(0, tile[0])
             .with_u32(1, tile[1])
             .with_u32(2, tile[2])
-            .with_u32(4, geometry_words);
+            .with_u32(4, geometry_words)
+            .with_u32(7, u32::from(settings.step_results_read()));
+        if settings.scheme == Scheme::Ilpv {
+            spec = spec.with_u32(8, u32::from(settings.step_applies_medium(lattice.cell_size)));
+        }
         match (kernel, bundle) {
             (Kernel::Tiled, _) => spec = spec.with_u32(3, Z_PAD),
             (_, Some(bundle)) => spec = spec.with_u32(5, column).with_u32(6, bundle),
@@ -1023,7 +1064,7 @@ impl Lpv {
 
     /// Channel `channel`'s lattice the lookup reads when `result` holds the propagated light.
     fn looked_up(&self, channel: usize, result: usize) -> &Buffer {
-        if self.reads_final() {
+        if self.settings.reads_final() {
             &self.lattices[channel][result]
         } else {
             &self.accumulation[channel]
@@ -1050,29 +1091,20 @@ impl Lpv {
         self.settings.blocking_lobe.words_per_cell() as u32
     }
 
-    fn reads_final(&self) -> bool {
-        self.settings.scheme == Scheme::Ilpv && self.settings.ilpv_lookup == IlpvLookup::Final
-    }
-
     /// Whether step `step` (0-based) adds its result to the accumulation: every step for LPV;
     /// for ILPV every step but the last (whose light the next frame carries on).
     fn accumulates(&self, step: usize) -> bool {
         match self.settings.scheme {
             Scheme::Lpv => true,
-            Scheme::Ilpv => !self.reads_final() && step + 1 < self.settings.iterations as usize,
+            Scheme::Ilpv => {
+                !self.settings.reads_final() && step + 1 < self.settings.iterations as usize
+            }
         }
     }
 
-    /// Steps recorded per frame: all of them, but for accumulated ILPV at λ_incr 0 one fewer,
-    /// since the last step's result is neither looked up nor carried (a two-scale near field of
-    /// 2 steps runs 1).
+    /// Steps recorded per frame (see [`LpvSettings::steps_run`]).
     pub(super) fn steps_run(&self) -> usize {
-        let steps = self.settings.iterations as usize;
-        let carried_or_read = self.settings.incremental > 0.0 || self.reads_final();
-        match self.settings.scheme {
-            Scheme::Ilpv if !carried_or_read => steps.saturating_sub(1),
-            _ => steps,
-        }
+        self.settings.steps_run()
     }
 
     /// The lookup's scale (see [`IlpvLookup`]): ILPV's lattice holds the fresh light at weight
@@ -1278,7 +1310,7 @@ impl Lpv {
         channel: usize,
         current: usize,
     ) -> GpuResult<()> {
-        if self.reads_final() {
+        if self.settings.reads_final() {
             return Ok(());
         }
         let acc = &self.accumulation[channel];
@@ -1539,10 +1571,14 @@ impl Lpv {
     }
 
     /// A digest of the lattices carried to the next frame and of those the lookup reads (each
-    /// read once: ILPV's final lookup reads the carried ones).
+    /// read once: ILPV's final lookup reads the carried ones). Where no step writes its result
+    /// (`LpvSettings::step_results_read`), the accumulation alone.
     pub fn digest(&self, gpu: &Gpu, hash: u64) -> GpuResult<u64> {
-        let carried = [0, 1, 2].map(|c| &self.lattices[c][self.result]);
-        let looked_up = match self.reads_final() {
+        let carried = match self.settings.step_results_read() {
+            true => [0, 1, 2].map(|c| &self.lattices[c][self.result]).to_vec(),
+            false => Vec::new(),
+        };
+        let looked_up = match self.settings.reads_final() {
             true => [].as_slice(),
             false => self.accumulation.as_slice(),
         };
@@ -1795,12 +1831,16 @@ impl GiMethod for Lpv {
             units: self.lattice.cell_count() * self.plan.channels() as usize,
             bytes_per_unit: cost::bytes_per_cell(
                 self.settings.scheme,
-                true,
+                StepWrites {
+                    result: self.settings.step_results_read(),
+                    accumulation: true,
+                },
                 self.geometry_words(),
                 self.plan.channels(),
             ),
             flops_per_unit: cost::flops_per_cell(
                 self.settings.scheme,
+                self.settings.step_applies_medium(self.lattice.cell_size),
                 self.geometry_words(),
                 self.plan.channels(),
             ),
