@@ -427,7 +427,16 @@ fn vpls_of(gpu: &vkgi::gpu::Gpu, scene: &Scene, lpv: &Lpv) -> Vec<cpu::Vpl> {
 #[test]
 fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_light() {
     use vkgi::gi::lpv::{InjectToward, Injection};
-    let gpu = common::gpu();
+    let mut gpu = common::gpu();
+    // Float atomics run inject_subgroup.comp where the device shuffles across narrow subgroups
+    // (lavapipe's 8 lanes) and inject.comp where it does not: both, the second with the
+    // capability cleared.
+    let subgroups = gpu.info.compute_subgroup_shuffles;
+    let injections = [
+        (Injection::Float, subgroups),
+        (Injection::Float, false),
+        (Injection::Fixed, subgroups),
+    ];
     // The spot-lit Cornell box, and a point light sealed in a cube (VPLs at its edges are where
     // the two ways differ most).
     let light = Vec3::new(0.16, 0.35, 0.14);
@@ -440,8 +449,9 @@ fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_li
         let ways = [(InjectToward::Normal, 0.5), (InjectToward::Light, 1.0)];
         let cases = ways
             .into_iter()
-            .flat_map(|way| [Injection::Float, Injection::Fixed].map(|i| (way, i)));
-        for ((toward, offset), injection) in cases {
+            .flat_map(|way| injections.map(|i| (way, i)));
+        for ((toward, offset), (injection, subgroup_sums)) in cases {
+            gpu.info.compute_subgroup_shuffles = subgroup_sums;
             // One frame of ILPV at λ 0 with one step: the lookup's lattice is the injection.
             let settings = LpvSettings {
                 lattice: 16,
@@ -464,12 +474,15 @@ fn gpu_injection_equals_the_f64_cpu_injection_along_the_normal_and_toward_the_li
                 .map(|c| relative_error(&injected[c], &expected[c]))
                 .fold(0.0, f64::max);
             eprintln!(
-                "{} {toward:?} {injection:?}: {} VPLs, worst relative difference {error:.2e}",
+                "{} {toward:?} {injection:?} (subgroup sums {subgroup_sums}): {} VPLs, worst relative difference {error:.2e}",
                 scene.lights.len(),
                 vpls.len()
             );
             assert!(vpls.len() > 100);
-            assert!(error < 1e-4, "{toward:?}: {error}");
+            assert!(
+                error < 1e-4,
+                "{toward:?} {injection:?} {subgroup_sums}: {error}"
+            );
         }
     }
     common::assert_no_validation_errors(&gpu);

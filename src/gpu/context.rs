@@ -164,6 +164,11 @@ pub struct DeviceInfo {
     pub shader_buffer_int64_atomics: bool,
     /// Fragment shaders may write storage buffers (fragmentStoresAndAtomics).
     pub fragment_stores_and_atomics: bool,
+    /// Invocations a subgroup (Vulkan 1.1's subgroupSize).
+    pub subgroup_size: u32,
+    /// Compute shaders may shuffle values across a subgroup (the compute stage with the basic
+    /// and shuffle subgroup operations).
+    pub compute_subgroup_shuffles: bool,
     /// VK_EXT_conservative_rasterization, where the device has it (enabled): raster pipelines
     /// may overestimate coverage (every pixel a triangle touches).
     pub conservative_rasterization: Option<ConservativeRasterization>,
@@ -815,12 +820,14 @@ fn create_device(
     };
 
     let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
+    let mut subgroup_props = vk::PhysicalDeviceSubgroupProperties::default();
     let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
     let mut push_descriptor_props = vk::PhysicalDevicePushDescriptorPropertiesKHR::default();
     let mut conservative_props =
         vk::PhysicalDeviceConservativeRasterizationPropertiesEXT::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default()
         .push_next(&mut driver_props)
+        .push_next(&mut subgroup_props)
         .push_next(&mut maintenance3)
         .push_next(&mut push_descriptor_props);
     if conservative {
@@ -863,6 +870,13 @@ fn create_device(
         shader_buffer_float32_atomic_add: atomic_add,
         shader_buffer_int64_atomics: int64_atomics,
         fragment_stores_and_atomics: base.fragment_stores_and_atomics == vk::TRUE,
+        subgroup_size: subgroup_props.subgroup_size,
+        compute_subgroup_shuffles: subgroup_props
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+            && subgroup_props
+                .supported_operations
+                .contains(vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::SHUFFLE),
         conservative_rasterization: conservative.then_some(ConservativeRasterization {
             max_extra_overestimation: conservative_props.max_extra_primitive_overestimation_size,
             degenerate_triangles_rasterized: conservative_props.degenerate_triangles_rasterized

@@ -559,6 +559,11 @@ pub fn choose_tile(
 }
 
 /// The SPIR-V of a propagation step.
+/// The widest subgroup whose VPLs the injection sums per cell before its atomics (every lane
+/// visits every lane: for a CPU device's SIMD width, where each float atomic is a loop over the
+/// lanes; a GPU's 32 or 64 lanes add their VPLs one by one).
+const MAX_SUMMED_SUBGROUP: u32 = 16;
+
 pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &'static [u8] {
     use ChannelPlan::{Fused, Separate};
     match (scheme, kernel, plan) {
@@ -635,6 +640,8 @@ pub struct Lpv {
     /// Threads of each propagation dispatch.
     propagate_threads: [u32; 3],
     inject_pipeline: ComputePipeline,
+    /// How the injection adds VPLs to their cells, for the description.
+    injection_kernel: &'static str,
     /// The fixed-point injection's sums and the pass back to floats (`Injection::Fixed`).
     fixed: Option<FixedInjection>,
     merge_pipeline: ComputePipeline,
@@ -886,6 +893,19 @@ impl Lpv {
             (_, Some(bundle)) => column_group(lattice.dims.to_array(), bundle),
             (_, None) => NAIVE_GROUP,
         };
+        let sums_subgroups = gpu.info.compute_subgroup_shuffles
+            && (1..=MAX_SUMMED_SUBGROUP).contains(&gpu.info.subgroup_size);
+        let (inject_spirv, injection_kernel) = match settings.injection {
+            Injection::Float if sums_subgroups => (
+                shaders::GI_LPV_INJECT_SUBGROUP_COMP,
+                "float atomics, each subgroup's VPLs summed per cell first",
+            ),
+            Injection::Float => (shaders::GI_LPV_INJECT_COMP, "float atomics, one a VPL"),
+            Injection::Fixed => (
+                shaders::GI_LPV_INJECT_FIXED_COMP,
+                "64-bit fixed-point atomics (the same bits whatever the order)",
+            ),
+        };
         let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
         // Cells a column kernel's thread walks (unused by the other kernels).
         let column = bundle.map_or(1, |bundle| column_cells(lattice.dims.to_array(), bundle));
@@ -1007,12 +1027,10 @@ impl Lpv {
             inject_pipeline: ComputePipeline::new(
                 gpu,
                 "inject",
-                match settings.injection {
-                    Injection::Float => shaders::GI_LPV_INJECT_COMP,
-                    Injection::Fixed => shaders::GI_LPV_INJECT_FIXED_COMP,
-                },
-                &none,
+                inject_spirv,
+                &Specialization::new().with_u32(0, gpu.info.subgroup_size),
             )?,
+            injection_kernel,
             fixed,
             merge_pipeline: ComputePipeline::new(gpu, "merge", shaders::GI_LPV_MERGE_COMP, &none)?,
             compensate_pipeline: ComputePipeline::new(
@@ -1883,6 +1901,7 @@ impl GiMethod for Lpv {
                 self.transfer.kappa
             ),
             format!("propagation kernel: {kernel}; channels: {plan}"),
+            format!("injection: {}", self.injection_kernel),
         ];
         if let Some(choice) = &self.autotune {
             lines.push(choice.describe());
