@@ -251,11 +251,13 @@ impl Drop for Sampler {
 /// Buffers from this size on are allocated with [`STAGGER`] bytes after them.
 const STAGGER_FROM: u64 = 64 * 1024;
 /// Room left after a large buffer, so that the next one does not start a multiple of a cache
-/// way (4 KiB for L1, 128 KiB for a 1 MiB 8-way L2) after it: buffers of a power-of-two size
-/// (a 32³ lattice of vec4 is 512 KiB) allocated one after another would otherwise put the same
-/// element of each in the same cache set, and a pass reading ten of them at once (an LPV step:
-/// three sources, three destinations, three accumulations, the geometry) on a CPU device loses
-/// lines to conflicts. Three pages and five lines: ten such buffers fall in ten different sets.
+/// way after it: buffers of a power-of-two size (a 32³ lattice of vec4 is 512 KiB) allocated
+/// one after another would otherwise put the same element of each in the same cache set, and a
+/// pass reading ten of them at once (an LPV step: three sources, three destinations, three
+/// accumulations, the geometry) on a CPU device loses lines to conflicts. Three pages and five
+/// lines: within a 4 KiB page (how an L1 cache is indexed), and within a 128 KiB way of an L2
+/// where the memory is physically contiguous (huge pages), ten such buffers start in ten
+/// different sets. Where the device aligns buffers to 4 KiB or more, the L1 part is lost.
 const STAGGER: u64 = 3 * 4096 + 5 * 64;
 
 /// `requirements` with the stagger added to a large buffer's size (the buffer keeps its own),

@@ -79,7 +79,8 @@ vec4 stored_geometry(uint k, uint w) {
 }
 
 // 0 where nothing reads a step's result (one step a frame whose light is neither carried nor
-// looked up: a two-scale near field): the step writes only the accumulation. A constant, so the
+// looked up: a two-scale near field, classic LPV of one step): the step writes only the
+// accumulation. A constant, so the
 // stores are compiled away (a branch would not skip them on lavapipe).
 layout(constant_id = 7) const uint WRITES_RESULT = 1u;
 

@@ -28,7 +28,7 @@ layout(push_constant) uniform Push {
 
 // 0 where the clamp compensation applies the medium before the step (or there is none): the
 // step then only transports (keep 1, no outscattering), and the terms that would multiply by 1
-// and add 0 are compiled away, with the same bits.
+// and add 0 are compiled away (the same bits for finite cells).
 layout(constant_id = 8) const uint STEP_MEDIUM = 1u;
 
 // The neighbours' constants, read by load_step_constants() at the top of main, outside every

@@ -3,8 +3,10 @@
 // neighbouring RSM texels mostly fall in one cell, so only the first lane of each cell adds its
 // cell's sum. Every lane visits the subgroup's lanes in turn (shuffles) and sums those in its
 // cell: for the narrow subgroups of a CPU device (SUBGROUP_LANES, at most 16), where each float
-// atomic is a compare-and-swap loop per lane and the lanes are few. The sums' order differs from
-// inject.comp's, which already depends on the threads' order.
+// atomic is a compare-and-swap loop per lane and the lanes are few. It reads every lane, so the
+// workgroups must be whole subgroups (src/gi/lpv/technique.rs chooses it only where the subgroup
+// size divides the workgroup's). The sums' order differs from inject.comp's, which already
+// depends on the threads' order.
 #extension GL_EXT_shader_atomic_float : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_shuffle : require

@@ -150,7 +150,7 @@ pub fn choose(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     Ok(choice)
 }
 
-/// Time a propagation of [`STEPS`] steps of every channel with each candidate on a lattice of
+/// Time a propagation of [`probe_steps`] steps of every channel with each candidate on a lattice of
 /// these settings (all candidates are built first and held together, so that their runs can
 /// alternate: six lattices' memory for the measurement's length).
 fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
@@ -158,7 +158,7 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
         let settings = LpvSettings {
             kernel: Some(kernel),
             channels: Some(plan),
-            iterations: STEPS,
+            iterations: probe_steps(settings),
             ..settings.clone()
         };
         Lpv::with_field(setup, settings, Field::Whole)
@@ -212,6 +212,23 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     })
 }
 
+/// The steps a candidate's probe is given: [`STEPS`], or one more or fewer where that makes its
+/// step write (or leave out) its result lattice as the lattice's own steps do, since the two are
+/// different kernels (`LpvSettings::step_results_read`).
+fn probe_steps(settings: &LpvSettings) -> u32 {
+    let writes_result = settings.step_results_read();
+    [STEPS, STEPS + 1, STEPS - 1]
+        .into_iter()
+        .find(|&iterations| {
+            let probe = LpvSettings {
+                iterations,
+                ..settings.clone()
+            };
+            probe.step_results_read() == writes_result
+        })
+        .unwrap_or(STEPS)
+}
+
 fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
     let info = &setup.gpu.info;
     let candidates = candidates(settings);
@@ -223,12 +240,14 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
             crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | {candidates:?} | {spirv:016x} | {} | {TIMED}",
+        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
         info.name,
         info.driver,
         settings.scheme,
         settings.lattice,
         settings.blocking_lobe.words_per_cell(),
+        settings.step_results_read(),
+        settings.step_applies_medium(),
         column_shape()
     )
 }
@@ -266,4 +285,36 @@ fn write_cache(path: &Path, key: &str, choice: &Choice) -> std::io::Result<()> {
     let temporary = path.with_extension(format!("json.{}", std::process::id()));
     std::fs::write(&temporary, text)?;
     std::fs::rename(&temporary, path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gi::lpv::technique::Scheme;
+
+    #[test]
+    fn the_probe_runs_the_kernel_its_lattice_runs() {
+        let settings = |scheme, iterations, incremental| LpvSettings {
+            scheme,
+            iterations,
+            incremental,
+            ..LpvSettings::default()
+        };
+        for (scheme, iterations, incremental) in [
+            (Scheme::Ilpv, 2, 0.0),
+            (Scheme::Ilpv, 3, 0.0),
+            (Scheme::Ilpv, 8, 0.9),
+            (Scheme::Lpv, 1, 0.0),
+            (Scheme::Lpv, 8, 0.0),
+        ] {
+            let lattice = settings(scheme, iterations, incremental);
+            let probe = settings(scheme, probe_steps(&lattice), incremental);
+            assert_eq!(
+                probe.step_results_read(),
+                lattice.step_results_read(),
+                "{scheme:?} {iterations} {incremental}"
+            );
+            assert!(probe.steps_run() >= 1, "{scheme:?} {iterations} {incremental}");
+        }
+    }
 }

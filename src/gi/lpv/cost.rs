@@ -14,8 +14,8 @@
 //! (the default) the step only transports: no outscattered energy, and the factor a max and a
 //! mul, 3 flops fewer per channel.
 //!
-//! LPV (6 neighbours, 5 faces): the same bytes (light and geometry read, result written, the
-//! accumulation read and written every step). Per face ⟨src|eval⟩ 7, max 1, blocking 1,
+//! LPV (6 neighbours, 5 faces): the same bytes (light and geometry read, result written but by
+//! a lone step, whose result nothing reads, the accumulation read and written every step). Per face ⟨src|eval⟩ 7, max 1, blocking 1,
 //! dst += lobe·flux 8: 17; per axis 5 faces plus blocking (the mean geometry of two cells 5 with
 //! an SH lobe, the blocking function, clamp 2): 99 with an SH lobe (594 per cell), 116 with the
 //! projected area (696), 89 with visibility (534).

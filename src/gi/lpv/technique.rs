@@ -377,11 +377,12 @@ impl LpvSettings {
     }
 
     /// Whether the ILPV step applies the medium (absorption and scattering) itself: not with
-    /// clamp compensation, which applies it before the step, nor without a medium.
-    pub(super) fn step_applies_medium(&self, cell_size: f32) -> bool {
+    /// clamp compensation, which applies it before the step, nor without a medium (both
+    /// coefficients 0, which [`LpvSettings::medium`] turns into zero at every cell size).
+    pub(super) fn step_applies_medium(&self) -> bool {
         self.scheme == Scheme::Ilpv
             && !self.clamp_compensation
-            && self.medium(cell_size) != (0.0, 0.0)
+            && (self.absorption > 0.0 || self.scattering > 0.0)
     }
 
     /// Lattice-normalised (λa, λs), clamped so that λa + λs ≤ 1.
@@ -558,12 +559,11 @@ pub fn choose_tile(
     })
 }
 
-/// The SPIR-V of a propagation step.
-/// The widest subgroup whose VPLs the injection sums per cell before its atomics (every lane
-/// visits every lane: for a CPU device's SIMD width, where each float atomic is a loop over the
-/// lanes; a GPU's 32 or 64 lanes add their VPLs one by one).
+/// The widest subgroup whose VPLs the injection sums per cell before its atomics, on a CPU
+/// device (every lane visits every lane; each float atomic is a loop over the lanes there).
 const MAX_SUMMED_SUBGROUP: u32 = 16;
 
+/// The SPIR-V of a propagation step.
 pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &'static [u8] {
     use ChannelPlan::{Fused, Separate};
     match (scheme, kernel, plan) {
@@ -893,16 +893,28 @@ impl Lpv {
             (_, Some(bundle)) => column_group(lattice.dims.to_array(), bundle),
             (_, None) => NAIVE_GROUP,
         };
-        let sums_subgroups = gpu.info.compute_subgroup_shuffles
-            && (1..=MAX_SUMMED_SUBGROUP).contains(&gpu.info.subgroup_size);
-        let (inject_spirv, injection_kernel) = match settings.injection {
+        // The subgroup sums read every lane of a subgroup: the injection's workgroups are made
+        // of whole subgroups where the subgroup size divides theirs.
+        let lanes = gpu.info.subgroup_size;
+        let workgroup = crate::shader_shared::IMAGE_WORKGROUP.pow(2);
+        let sums_subgroups = gpu.info.is_cpu()
+            && gpu.info.compute_subgroup_shuffles
+            && (2..=MAX_SUMMED_SUBGROUP).contains(&lanes)
+            && workgroup.is_multiple_of(lanes);
+        let (inject_spirv, inject_spec, injection_kernel) = match settings.injection {
             Injection::Float if sums_subgroups => (
                 shaders::GI_LPV_INJECT_SUBGROUP_COMP,
+                Specialization::new().with_u32(0, lanes),
                 "float atomics, each subgroup's VPLs summed per cell first",
             ),
-            Injection::Float => (shaders::GI_LPV_INJECT_COMP, "float atomics, one a VPL"),
+            Injection::Float => (
+                shaders::GI_LPV_INJECT_COMP,
+                Specialization::new(),
+                "float atomics, one a VPL",
+            ),
             Injection::Fixed => (
                 shaders::GI_LPV_INJECT_FIXED_COMP,
+                Specialization::new(),
                 "64-bit fixed-point atomics (the same bits whatever the order)",
             ),
         };
@@ -917,7 +929,7 @@ impl Lpv {
             .with_u32(4, geometry_words)
             .with_u32(7, u32::from(settings.step_results_read()));
         if settings.scheme == Scheme::Ilpv {
-            spec = spec.with_u32(8, u32::from(settings.step_applies_medium(lattice.cell_size)));
+            spec = spec.with_u32(8, u32::from(settings.step_applies_medium()));
         }
         match (kernel, bundle) {
             (Kernel::Tiled, _) => spec = spec.with_u32(3, Z_PAD),
@@ -1024,12 +1036,7 @@ impl Lpv {
             autotune,
             tile,
             propagate_threads,
-            inject_pipeline: ComputePipeline::new(
-                gpu,
-                "inject",
-                inject_spirv,
-                &Specialization::new().with_u32(0, gpu.info.subgroup_size),
-            )?,
+            inject_pipeline: ComputePipeline::new(gpu, "inject", inject_spirv, &inject_spec)?,
             injection_kernel,
             fixed,
             merge_pipeline: ComputePipeline::new(gpu, "merge", shaders::GI_LPV_MERGE_COMP, &none)?,
@@ -1851,14 +1858,15 @@ impl GiMethod for Lpv {
                 self.settings.scheme,
                 StepWrites {
                     result: self.settings.step_results_read(),
-                    accumulation: true,
+                    // ILPV's final lookup reads the last step alone: no step accumulates.
+                    accumulation: !self.settings.reads_final(),
                 },
                 self.geometry_words(),
                 self.plan.channels(),
             ),
             flops_per_unit: cost::flops_per_cell(
                 self.settings.scheme,
-                self.settings.step_applies_medium(self.lattice.cell_size),
+                self.settings.step_applies_medium(),
                 self.geometry_words(),
                 self.plan.channels(),
             ),
@@ -1916,6 +1924,57 @@ impl GiMethod for Lpv {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_step_writes_its_result_where_a_later_step_the_next_frame_or_the_lookup_reads_it() {
+        let ilpv = |iterations, incremental, ilpv_lookup| LpvSettings {
+            scheme: Scheme::Ilpv,
+            iterations,
+            incremental,
+            ilpv_lookup,
+            ..LpvSettings::default()
+        };
+        let (acc, last) = (IlpvLookup::Accumulated, IlpvLookup::Final);
+        // A two-scale near field (λ 0, 2 steps): one step runs, its light only accumulated.
+        assert_eq!(ilpv(2, 0.0, acc).steps_run(), 1);
+        assert!(!ilpv(2, 0.0, acc).step_results_read());
+        // A second step run reads the first one's result.
+        assert_eq!(ilpv(3, 0.0, acc).steps_run(), 2);
+        assert!(ilpv(3, 0.0, acc).step_results_read());
+        // Carried into the next frame, or looked up alone.
+        assert!(ilpv(2, 0.5, acc).step_results_read());
+        assert!(ilpv(1, 0.0, last).step_results_read());
+        let lpv = |iterations| LpvSettings {
+            scheme: Scheme::Lpv,
+            iterations,
+            ..LpvSettings::default()
+        };
+        assert!(!lpv(1).step_results_read());
+        assert!(lpv(2).step_results_read());
+    }
+
+    #[test]
+    fn the_step_applies_the_medium_only_without_compensation_and_with_a_medium() {
+        let ilpv = |clamp_compensation, absorption, scattering| LpvSettings {
+            scheme: Scheme::Ilpv,
+            clamp_compensation,
+            absorption,
+            scattering,
+            ..LpvSettings::default()
+        };
+        assert!(!ilpv(true, 0.2, 0.3).step_applies_medium());
+        assert!(ilpv(false, 0.2, 0.0).step_applies_medium());
+        assert!(ilpv(false, 0.0, 0.3).step_applies_medium());
+        assert!(!ilpv(false, 0.0, 0.0).step_applies_medium());
+        // LPV's step has no medium.
+        let lpv = LpvSettings {
+            scheme: Scheme::Lpv,
+            clamp_compensation: false,
+            absorption: 0.2,
+            ..LpvSettings::default()
+        };
+        assert!(!lpv.step_applies_medium());
+    }
 
     #[test]
     fn column_threads_take_whole_columns_unless_the_cores_would_idle() {
