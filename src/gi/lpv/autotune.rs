@@ -193,7 +193,7 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
             setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
             // A lattice may record fewer steps than it is given (ILPV's last step at λ_incr
             // 0, whose light nothing reads): the time is per step recorded.
-            let steps = lpv.steps_run().max(1) as f64;
+            let steps = lpv.settings.steps_run().max(1) as f64;
             let ms = start.elapsed().as_secs_f64() * 1e3 / steps;
             timing.ms = timing.ms.min(ms);
         }

@@ -528,8 +528,14 @@ pub fn column_cells(dims: [u32; 3], bundle: u32) -> u32 {
 /// workgroup or the split of a column makes the cached timings stale, as a change to their
 /// SPIR-V does.
 pub fn column_shape() -> String {
+    let bundles: Vec<String> = Kernel::ALL
+        .iter()
+        .filter_map(|kernel| kernel.column_bundle())
+        .map(|side| format!("{side}x{side}"))
+        .collect();
     format!(
-        "column bundles 2x2 and 1x1, {COLUMN_THREADS} threads up to {COLUMN_GROUP_WIDEST} wide, {COLUMN_MIN_WORKGROUPS} workgroups at least"
+        "column bundles {}, {COLUMN_THREADS} threads up to {COLUMN_GROUP_WIDEST} wide, {COLUMN_MIN_WORKGROUPS} workgroups at least",
+        bundles.join(" and ")
     )
 }
 
@@ -562,6 +568,39 @@ pub fn choose_tile(
 /// The widest subgroup whose VPLs the injection sums per cell before its atomics, on a CPU
 /// device (every lane visits every lane; each float atomic is a loop over the lanes there).
 const MAX_SUMMED_SUBGROUP: u32 = 16;
+
+/// The injection's SPIR-V, its specialisation and its description, for `injection` on `gpu`: float atomics summed per cell across each subgroup first on a CPU device whose
+/// subgroups shuffle, are at most [`MAX_SUMMED_SUBGROUP`] lanes and divide the workgroup (the
+/// sums read every lane of a subgroup), else one atomic a VPL; or the fixed-point kernel.
+fn injection_kernel(
+    gpu: &Gpu,
+    injection: Injection,
+) -> (&'static [u8], Specialization, &'static str) {
+    let info = &gpu.info;
+    let lanes = info.subgroup_size;
+    let workgroup = crate::shader_shared::IMAGE_WORKGROUP.pow(2);
+    let sums_subgroups = info.is_cpu()
+        && info.compute_subgroup_shuffles
+        && (2..=MAX_SUMMED_SUBGROUP).contains(&lanes)
+        && workgroup.is_multiple_of(lanes);
+    match injection {
+        Injection::Float if sums_subgroups => (
+            shaders::GI_LPV_INJECT_SUBGROUP_COMP,
+            Specialization::new().with_u32(0, lanes),
+            "float atomics, each subgroup's VPLs summed per cell first",
+        ),
+        Injection::Float => (
+            shaders::GI_LPV_INJECT_COMP,
+            Specialization::new(),
+            "float atomics, one a VPL",
+        ),
+        Injection::Fixed => (
+            shaders::GI_LPV_INJECT_FIXED_COMP,
+            Specialization::new(),
+            "64-bit fixed-point atomics (the same bits whatever the order)",
+        ),
+    }
+}
 
 /// The SPIR-V of a propagation step.
 pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &'static [u8] {
@@ -893,31 +932,8 @@ impl Lpv {
             (_, Some(bundle)) => column_group(lattice.dims.to_array(), bundle),
             (_, None) => NAIVE_GROUP,
         };
-        // The subgroup sums read every lane of a subgroup: the injection's workgroups are made
-        // of whole subgroups where the subgroup size divides theirs.
-        let lanes = gpu.info.subgroup_size;
-        let workgroup = crate::shader_shared::IMAGE_WORKGROUP.pow(2);
-        let sums_subgroups = gpu.info.is_cpu()
-            && gpu.info.compute_subgroup_shuffles
-            && (2..=MAX_SUMMED_SUBGROUP).contains(&lanes)
-            && workgroup.is_multiple_of(lanes);
-        let (inject_spirv, inject_spec, injection_kernel) = match settings.injection {
-            Injection::Float if sums_subgroups => (
-                shaders::GI_LPV_INJECT_SUBGROUP_COMP,
-                Specialization::new().with_u32(0, lanes),
-                "float atomics, each subgroup's VPLs summed per cell first",
-            ),
-            Injection::Float => (
-                shaders::GI_LPV_INJECT_COMP,
-                Specialization::new(),
-                "float atomics, one a VPL",
-            ),
-            Injection::Fixed => (
-                shaders::GI_LPV_INJECT_FIXED_COMP,
-                Specialization::new(),
-                "64-bit fixed-point atomics (the same bits whatever the order)",
-            ),
-        };
+        let (inject_spirv, inject_spec, injection_kernel) =
+            injection_kernel(gpu, settings.injection);
         let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
         // Cells a column kernel's thread walks (unused by the other kernels).
         let column = bundle.map_or(1, |bundle| column_cells(lattice.dims.to_array(), bundle));
@@ -1127,11 +1143,6 @@ impl Lpv {
         }
     }
 
-    /// Steps recorded per frame (see [`LpvSettings::steps_run`]).
-    pub(super) fn steps_run(&self) -> usize {
-        self.settings.steps_run()
-    }
-
     /// The lookup's scale (see [`IlpvLookup`]): ILPV's lattice holds the fresh light at weight
     /// 1 - λ_incr every frame, the first included.
     fn lookup_scale(&self) -> f32 {
@@ -1292,7 +1303,7 @@ impl Lpv {
     ) -> GpuResult<usize> {
         let (absorption, scattering) = self.settings.medium(self.lattice.cell_size);
         let mut src = current;
-        for step in 0..self.steps_run() {
+        for step in 0..self.settings.steps_run() {
             rec.in_step(step as u32 + 1, |rec| {
                 self.record_step(rec, channels, step, src, (absorption, scattering))
             })?;
