@@ -6,4 +6,5 @@
 #define LPV_COLUMN 1
 #define LPV_TEXELS 1
 #define COLUMN_FACES_ONLY 0
+#define COLUMN_STREAM 1
 #include "gi/lpv/ilpv_step.glsl"

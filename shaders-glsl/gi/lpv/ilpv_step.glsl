@@ -50,13 +50,16 @@ ivec3 neighbour_offset(int d) {
     return ivec3(i % 3, (i / 3) % 3, i / 9) - 1;
 }
 
-// The gathered light of `cell` from its 26 neighbours, in every channel the step carries (the
-// blocking, which depends on the geometry alone, once for all of them).
-Light gather(ivec3 cell) {
-    GeometryWords own_geometry = source_geometry(cell, ivec3(0));
-    Light dst = no_light();
-    // Unrolled: every neighbour offset (the same x-fastest order as transfer.rs) is a constant.
-    [[unroll]] for (int d = 0; d < 26; ++d) {
+// Adds to `dst` the light `cell` gathers from its neighbours in plane group `group` (0: the 9
+// at z + 1, 1: the 8 at z, 2: the 9 at z - 1), in the x-fastest order of their offsets
+// (transfer.rs) and in every channel the step carries (the blocking, which depends on the
+// geometry alone, once for all of them). `own_geometry` is the cell's own (read by the
+// visibility model alone).
+void gather_group(ivec3 cell, int group, GeometryWords own_geometry, inout Light dst) {
+    int first = group == 0 ? 0 : (group == 1 ? 9 : 17);
+    int end = group == 0 ? 9 : (group == 1 ? 17 : 26);
+    // Unrolled: every neighbour offset is a constant.
+    [[unroll]] for (int d = first; d < end; ++d) {
         vec4 transfer = neighbour_transfer[d];
         ivec3 offset = neighbour_offset(d);
         float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, transfer, offset);
@@ -72,6 +75,13 @@ Light gather(ivec3 cell) {
             dst.c[c] += transfer * (transported * blocking);
         }
     }
+}
+
+// The gathered light of `cell` from its 26 neighbours.
+Light gather(ivec3 cell) {
+    GeometryWords own_geometry = source_geometry(cell, ivec3(0));
+    Light dst = no_light();
+    [[unroll]] for (int group = 0; group < 3; ++group) gather_group(cell, group, own_geometry, dst);
     return dst;
 }
 

@@ -6,4 +6,5 @@
 #define LPV_COLUMN 1
 #define LPV_TEXELS 1
 #define COLUMN_FACES_ONLY 1
+#define COLUMN_STREAM 0
 #include "gi/lpv/kd10_step.glsl"

@@ -1,12 +1,55 @@
 #ifndef VKGI_LPV_STEP_MAIN_GLSL
 #define VKGI_LPV_STEP_MAIN_GLSL
 // The entry point of a propagation step: the including step defines `Light gather(ivec3 cell)`
-// (the cell's new light from its sources, read through tile.glsl) and
-// `void store(ivec3 cell, Light light)`; tile.glsl's mode decides how cells are walked.
+// (the cell's new light from its sources, read through tile.glsl; for the column kernel's
+// stream, `gather_group(cell, group, own_geometry, dst)`, its terms from one plane of sources)
+// and `void store(ivec3 cell, Light light)`; tile.glsl's mode decides how cells are walked.
 
 void main() {
     load_step_constants();
-#if LPV_COLUMN
+#if LPV_COLUMN && COLUMN_STREAM
+    // The bundle's first column, the first cell of its piece of the column and the last.
+    ivec3 first = ivec3(gl_GlobalInvocationID.xy * BUNDLE, gl_GlobalInvocationID.z * COLUMN);
+    if (!lattice_inside(first, pc.dims.xyz)) return;
+    int last = min(first.z + int(COLUMN), pc.dims.z) - 1;
+    // While plane p is read, each member's cell at p has the group of plane p + 1 (`nearer`),
+    // the one at p + 1 those of p + 2 and p + 1 (`farther`): plane p completes the farther,
+    // adds to the nearer and starts the cell at p - 1, with their own geometry.
+    const int MEMBERS = BUNDLE * BUNDLE;
+    Light nearer[MEMBERS];
+    Light farther[MEMBERS];
+    GeometryWords nearer_own[MEMBERS];
+    GeometryWords farther_own[MEMBERS];
+    [[unroll]] for (int m = 0; m < MEMBERS; ++m) {
+        nearer[m] = no_light();
+        farther[m] = no_light();
+        nearer_own[m] = no_geometry();
+        farther_own[m] = no_geometry();
+    }
+    // Every thread of a workgroup shares its z range, so the loop ends for all at once. The
+    // planes just past the piece are sources of its end cells; what they add to cells past it
+    // is not stored.
+    for (int p = last + 1; p >= first.z - 1; --p) {
+        load_plane(ivec3(first.xy, p), 0);
+        [[unroll]] for (int m = 0; m < MEMBERS; ++m) {
+            bundle_member = ivec2(m % BUNDLE, m / BUNDLE);
+            ivec3 cell = ivec3(first.xy + bundle_member, p);
+            ivec3 up = cell + ivec3(0, 0, 1);
+            ivec3 down = cell - ivec3(0, 0, 1);
+            gather_group(up, 2, farther_own[m], farther[m]);
+            // A bundle over the lattice's last column or row computes cells past it.
+            if (all(lessThan(cell.xy, pc.dims.xy)) && up.z >= first.z && up.z <= last) {
+                store(up, farther[m]);
+            }
+            gather_group(cell, 1, nearer_own[m], nearer[m]);
+            farther[m] = nearer[m];
+            farther_own[m] = nearer_own[m];
+            nearer_own[m] = own_geometry(down);
+            nearer[m] = no_light();
+            gather_group(down, 0, nearer_own[m], nearer[m]);
+        }
+    }
+#elif LPV_COLUMN
     // The bundle's first column, and the first cell of its piece of the column.
     ivec3 first = ivec3(gl_GlobalInvocationID.xy * BUNDLE, gl_GlobalInvocationID.z * COLUMN);
     if (!lattice_inside(first, pc.dims.xyz)) return;

@@ -13,6 +13,9 @@
 // with z innermost and padded by Z_PAD cells: neighbouring threads differ in x, so the pad makes
 // their stride odd and spreads them over the banks (the thesis's CUDA kernel: padding z, and
 // only z, removed the bank conflicts).
+#ifndef COLUMN_STREAM
+#define COLUMN_STREAM 0
+#endif
 #include "gi/lpv/lattice.glsl"
 #include "gi/lpv/cells.glsl"
 
@@ -60,28 +63,36 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
 }
 #elif LPV_COLUMN
 // Column: each thread steps along z through COLUMN cells of a bundle of BUNDLE x BUNDLE
-// neighbouring columns, keeping the block of source cells around them, three planes of
-// (BUNDLE + 2)² cells, in registers (slots indexed by constant offsets once the loops are
-// unrolled): a step loads only the plane ahead, once for the whole bundle (ILPV: 9 cells a
-// column for one column, 4 for a bundle of 2x2).
+// neighbouring columns and loads each plane of (BUNDLE + 2)² cells around them once for the
+// whole bundle (ILPV: 9 cells a column for one column, 4 for a bundle of 2x2) into registers
+// (slots indexed by constant offsets once the loops are unrolled). Two walks (step_main.glsl):
+// * the block (COLUMN_STREAM 0: LPV) walks up keeping three planes, from which each cell of the
+//   bundle gathers; the block then moves one plane (two planes copied a cell);
+// * the stream (COLUMN_STREAM 1: ILPV, whose gather comes in plane groups, gather_group) walks
+//   down keeping one plane: each plane adds its group to the bundle's cells at z + 1, z and
+//   z - 1, whose partial sums the thread carries, and nothing else is copied from plane to
+//   plane. Walking down, each cell's groups add in its gather's order: the gather's bits.
 layout(constant_id = 5) const uint COLUMN = 8u;
 layout(constant_id = 6) const int BUNDLE = 1;
 const int BLOCK_SIDE = BUNDLE + 2;
 const int BLOCK_PLANE = BLOCK_SIDE * BLOCK_SIDE;
-vec4 column_light[3 * BLOCK_PLANE * CHANNELS];
-GeometryWords column_geometry[3 * BLOCK_PLANE];
-// The bundle's column whose cell gather() is computing (step_main.glsl; a constant once its
-// loops are unrolled).
+const int BLOCK_PLANES = COLUMN_STREAM != 0 ? 1 : 3;
+vec4 column_light[BLOCK_PLANES * BLOCK_PLANE * CHANNELS];
+GeometryWords column_geometry[BLOCK_PLANES * BLOCK_PLANE];
+// The bundle's column whose cell gather() or gather_group() is computing (step_main.glsl; a
+// constant once its loops are unrolled).
 ivec2 bundle_member;
 
-// The slot of the block cell at `offset` from the bundle's first column, in plane dz = offset.z.
+// The slot of the cell at `offset` from the bundle's first column: in plane dz = offset.z of the
+// block, in the stream's one plane whatever its z.
 uint block_slot(ivec3 offset) {
-    return uint((offset.z + 1) * BLOCK_PLANE + (offset.y + 1) * BLOCK_SIDE + offset.x + 1);
+    int plane = COLUMN_STREAM != 0 ? 0 : offset.z + 1;
+    return uint(plane * BLOCK_PLANE + (offset.y + 1) * BLOCK_SIDE + offset.x + 1);
 }
 
-// The plane z = origin.z + dz of the block around the bundle whose first column is at `origin`
-// into its slots (zero outside); with COLUMN_FACES_ONLY only the cells a face-neighbour step
-// reads (the square without its 4 corners).
+// The plane z = origin.z + dz around the bundle whose first column is at `origin` into its
+// slots (zero outside); with COLUMN_FACES_ONLY only the cells a face-neighbour step reads (the
+// square without its 4 corners).
 void load_plane(ivec3 origin, int dz) {
     [[unroll]] for (int dy = -1; dy <= BUNDLE; ++dy) {
         [[unroll]] for (int dx = -1; dx <= BUNDLE; ++dx) {
@@ -102,6 +113,18 @@ void load_plane(ivec3 origin, int dz) {
     }
 }
 
+#if COLUMN_STREAM
+// The geometry of `cell` (zero outside) where the blocking reads a cell's own geometry (the
+// visibility model's four words); otherwise none, and nothing is read.
+GeometryWords own_geometry(ivec3 cell) {
+    GeometryWords g = no_geometry();
+    if (GEOMETRY_WORDS != 4u) return g;
+    bool inside = lattice_inside(cell, pc.dims.xyz);
+    uint k = inside ? lattice_index(cell, pc.dims.xyz) : 0u;
+    for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
+    return g;
+}
+#else
 // Move the block one cell along +z: the planes at dz = 0 and 1 become those at -1 and 0.
 void advance_column() {
     [[unroll]] for (int slot = 0; slot < 2 * BLOCK_PLANE; ++slot) {
@@ -111,6 +134,7 @@ void advance_column() {
         column_geometry[slot] = column_geometry[slot + BLOCK_PLANE];
     }
 }
+#endif
 
 vec4 source_light(ivec3 cell, ivec3 offset, int c) {
     return column_light[block_slot(offset + ivec3(bundle_member, 0)) * CHANNELS + c];
