@@ -26,21 +26,27 @@ void main() {
         nearer_own[m] = no_geometry();
         farther_own[m] = no_geometry();
     }
-    // Every thread of a workgroup shares its z range, so the loop ends for all at once. The
-    // planes just past the piece are sources of its end cells; what they add to cells past it
-    // is not stored.
-    for (int p = last + 1; p >= first.z - 1; --p) {
+    // The plane above the piece starts its last cells.
+    load_plane(ivec3(first.xy, last + 1), 0);
+    [[unroll]] for (int m = 0; m < MEMBERS; ++m) {
+        bundle_member = ivec2(m % BUNDLE, m / BUNDLE);
+        ivec3 cell = ivec3(first.xy + bundle_member, last);
+        nearer_own[m] = own_geometry(cell);
+        gather_group(cell, 0, nearer_own[m], nearer[m]);
+    }
+    // Every thread of a workgroup shares its z range, so the loop ends for all at once.
+    for (int p = last; p >= first.z; --p) {
         load_plane(ivec3(first.xy, p), 0);
         [[unroll]] for (int m = 0; m < MEMBERS; ++m) {
             bundle_member = ivec2(m % BUNDLE, m / BUNDLE);
             ivec3 cell = ivec3(first.xy + bundle_member, p);
             ivec3 up = cell + ivec3(0, 0, 1);
             ivec3 down = cell - ivec3(0, 0, 1);
+            // The first plane's farther cell lies past the piece, the last one's cell at p - 1
+            // before it: their terms are computed (a branch would not skip them) and not stored.
             gather_group(up, 2, farther_own[m], farther[m]);
             // A bundle over the lattice's last column or row computes cells past it.
-            if (all(lessThan(cell.xy, pc.dims.xy)) && up.z >= first.z && up.z <= last) {
-                store(up, farther[m]);
-            }
+            if (all(lessThan(cell.xy, pc.dims.xy)) && p < last) store(up, farther[m]);
             gather_group(cell, 1, nearer_own[m], nearer[m]);
             farther[m] = nearer[m];
             farther_own[m] = nearer_own[m];
@@ -48,6 +54,14 @@ void main() {
             nearer[m] = no_light();
             gather_group(down, 0, nearer_own[m], nearer[m]);
         }
+    }
+    // The plane below the piece completes its first cells.
+    load_plane(ivec3(first.xy, first.z - 1), 0);
+    [[unroll]] for (int m = 0; m < MEMBERS; ++m) {
+        bundle_member = ivec2(m % BUNDLE, m / BUNDLE);
+        ivec3 cell = ivec3(first.xy + bundle_member, first.z);
+        gather_group(cell, 2, farther_own[m], farther[m]);
+        if (all(lessThan(cell.xy, pc.dims.xy))) store(cell, farther[m]);
     }
 #elif LPV_COLUMN
     // The bundle's first column, and the first cell of its piece of the column.
