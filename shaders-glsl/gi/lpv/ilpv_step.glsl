@@ -50,39 +50,45 @@ ivec3 neighbour_offset(int d) {
     return ivec3(i % 3, (i / 3) % 3, i / 9) - 1;
 }
 
-// Adds to `dst` the light `cell` gathers from its neighbours in plane group `group` (0: the 9
-// at z + 1, 1: the 8 at z, 2: the 9 at z - 1), in the x-fastest order of their offsets
-// (transfer.rs) and in every channel the step carries (the blocking, which depends on the
-// geometry alone, once for all of them). `own_geometry` is the cell's own (read by the
-// visibility model alone).
-void gather_group(ivec3 cell, int group, GeometryWords own_geometry, inout Light dst) {
-    int first = group == 0 ? 0 : (group == 1 ? 9 : 17);
-    int end = group == 0 ? 9 : (group == 1 ? 17 : 26);
-    // Unrolled: every neighbour offset is a constant.
-    [[unroll]] for (int d = first; d < end; ++d) {
-        vec4 transfer = neighbour_transfer[d];
-        ivec3 offset = neighbour_offset(d);
-        float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, transfer, offset);
-        float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
-        [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
-            vec4 src = source_light(cell, -offset, c);
-            float transported = max(dot(src, transfer), 0.0);
-            if (STEP_MEDIUM != 0u) {
-                float outscattered = src.x * pc.scatter_energy;
-                transported = max(pc.keep * dot(src, transfer), 0.0)
-                              + outscattered * neighbour_outscatter[d];
-            }
-            dst.c[c] += transfer * (transported * blocking);
+// Adds to `dst` the light `cell` gathers from neighbour `d`, in every channel the step carries
+// (the blocking, which depends on the geometry alone, once for all of them). `own_geometry` is
+// the cell's own (read by the visibility model alone).
+void add_neighbour(ivec3 cell, int d, GeometryWords own_geometry, inout Light dst) {
+    vec4 transfer = neighbour_transfer[d];
+    ivec3 offset = neighbour_offset(d);
+    float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, transfer, offset);
+    float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
+    [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
+        vec4 src = source_light(cell, -offset, c);
+        float transported = max(dot(src, transfer), 0.0);
+        if (STEP_MEDIUM != 0u) {
+            float outscattered = src.x * pc.scatter_energy;
+            transported = max(pc.keep * dot(src, transfer), 0.0)
+                          + outscattered * neighbour_outscatter[d];
         }
+        dst.c[c] += transfer * (transported * blocking);
     }
 }
 
-// The gathered light of `cell` from its 26 neighbours.
+// The gathered light of `cell` from its 26 neighbours, in the x-fastest order of their offsets
+// (transfer.rs). Unrolled: every neighbour offset is a constant.
 Light gather(ivec3 cell) {
     GeometryWords own_geometry = source_geometry(cell, ivec3(0));
     Light dst = no_light();
-    [[unroll]] for (int group = 0; group < 3; ++group) gather_group(cell, group, own_geometry, dst);
+    [[unroll]] for (int d = 0; d < 26; ++d) add_neighbour(cell, d, own_geometry, dst);
     return dst;
+}
+
+// Adds to `dst` the part of gather(cell) from the neighbours in plane group `group` (a
+// constant: 0 the 9 at z + 1, 1 the 8 at z, 2 the 9 at z - 1), in the same order.
+void gather_group(ivec3 cell, int group, GeometryWords own_geometry, inout Light dst) {
+    if (group == 0) {
+        [[unroll]] for (int d = 0; d < 9; ++d) add_neighbour(cell, d, own_geometry, dst);
+    } else if (group == 1) {
+        [[unroll]] for (int d = 9; d < 17; ++d) add_neighbour(cell, d, own_geometry, dst);
+    } else {
+        [[unroll]] for (int d = 17; d < 26; ++d) add_neighbour(cell, d, own_geometry, dst);
+    }
 }
 
 void store(ivec3 cell, Light dst) {
