@@ -4,8 +4,8 @@
 // LPV_TILED and LPV_COLUMN (one of them 1, or neither for the naive kernel), COLUMN_FACES_ONLY
 // (1 when the step reads only face neighbours) and what cells.glsl asks for, and a
 // push-constant block `pc` with `ivec4 dims`; step_main.glsl walks the cells (tiled:
-// prepare_sources() first, in uniform control flow; column: load_plane() and advance_column()
-// along the column). Each reader gives source_light(cell, offset, channel) and
+// prepare_sources() first, in uniform control flow; column: load_plane() along the column, and
+// for the block advance_column()). Each reader gives source_light(cell, offset, channel) and
 // source_geometry(cell, offset).
 //
 // Tiled: the workgroup (one tile of cells) loads its cells plus a one-cell halo of light and

@@ -4,8 +4,8 @@
 //! The tiled kernel (a shared-memory tile per workgroup) suits GPUs; the column kernels (a
 //! bundle of 2x2 columns of cells, or one column, per thread, their sources in registers and
 //! read as texels) suit CPU devices such as lavapipe, where every storage-buffer load is made
-//! lane by lane: the bundle loads fewer cells a column, the single column keeps a smaller block
-//! of sources, and which is faster depends on the scheme, the plan and the lattice. A fused dispatch of
+//! lane by lane: the bundle reads fewer cells a column, the single column keeps fewer, and
+//! which is faster depends on the scheme, the plan and the lattice. A fused dispatch of
 //! the three channels reads the geometry and evaluates the blocking once; separate dispatches
 //! are three parts that a device with three compute queues can overlap. All do the same
 //! arithmetic per channel in the same order, and on lavapipe give the same bits (tests/lpv.rs

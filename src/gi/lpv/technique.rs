@@ -173,15 +173,15 @@ pub enum Kernel {
     Tiled,
     /// Each thread gathers from global memory (for comparison).
     Naive,
-    /// Each thread steps along z through a bundle of 2x2 neighbouring columns of cells,
-    /// keeping the block of sources around them in registers and loading only the plane ahead,
-    /// once for the four columns (ILPV 16 cells, 4 a column; LPV the 12 its face neighbours
-    /// need, 3 a column), with no shared memory and no barrier (for CPU devices, where every
-    /// load is made lane by lane).
+    /// Each thread steps along z through a bundle of 2x2 neighbouring columns of cells and
+    /// reads each plane of sources around them once for the four columns (ILPV 16 cells, 4 a
+    /// column; LPV the 12 its face neighbours need, 3 a column), with no shared memory and no
+    /// barrier (for CPU devices, where every load is made lane by lane). LPV keeps the block of
+    /// three planes around the bundle in registers and gathers from it; ILPV walks down as a
+    /// stream, adding each plane to the partial sums of the bundle's cells it is a source of.
     Column,
-    /// The column kernel with one column a thread: more cells loaded a column (ILPV 9, LPV 5),
-    /// a smaller block of sources to keep (on lavapipe, faster for some lattices: the autotune
-    /// measures it).
+    /// The column kernel with one column a thread: more cells read a column (ILPV 9, LPV 5),
+    /// fewer to keep (on lavapipe, faster for some lattices: the autotune measures it).
     SingleColumn,
 }
 
