@@ -78,6 +78,13 @@ vec4 stored_geometry(uint k, uint w) {
     return READ_CELL(geometry_cells, k * GEOMETRY_WORDS + w);
 }
 
+// The geometry of lattice cell `k` where `inside`, zero elsewhere.
+GeometryWords stored_cell_geometry(uint k, bool inside) {
+    GeometryWords g = no_geometry();
+    for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
+    return g;
+}
+
 // 0 where nothing reads a step's result (one step a frame whose light is neither carried nor
 // looked up: a two-scale near field, classic LPV of one step): the step writes only the
 // accumulation. A constant, so the

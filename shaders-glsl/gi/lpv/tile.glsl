@@ -106,9 +106,7 @@ void load_plane(ivec3 origin, int dz) {
             [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
                 column_light[slot * CHANNELS + ch] = inside ? stored_light(k, ch) : vec4(0.0);
             }
-            GeometryWords g = no_geometry();
-            for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
-            column_geometry[slot] = g;
+            column_geometry[slot] = stored_cell_geometry(k, inside);
         }
     }
 }
@@ -117,12 +115,9 @@ void load_plane(ivec3 origin, int dz) {
 // The geometry of `cell` (zero outside) where the blocking reads a cell's own geometry (the
 // visibility model's four words); otherwise none, and nothing is read.
 GeometryWords own_geometry(ivec3 cell) {
-    GeometryWords g = no_geometry();
-    if (GEOMETRY_WORDS != 4u) return g;
+    if (GEOMETRY_WORDS != 4u) return no_geometry();
     bool inside = lattice_inside(cell, pc.dims.xyz);
-    uint k = inside ? lattice_index(cell, pc.dims.xyz) : 0u;
-    for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
-    return g;
+    return stored_cell_geometry(inside ? lattice_index(cell, pc.dims.xyz) : 0u, inside);
 }
 #else
 // Move the block one cell along +z: the planes at dz = 0 and 1 become those at -1 and 0.

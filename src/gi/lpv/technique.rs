@@ -569,9 +569,10 @@ pub fn choose_tile(
 /// device (every lane visits every lane; each float atomic is a loop over the lanes there).
 const MAX_SUMMED_SUBGROUP: u32 = 16;
 
-/// The injection's SPIR-V, its specialisation and its description, for `injection` on `gpu`: float atomics summed per cell across each subgroup first on a CPU device whose
-/// subgroups shuffle, are at most [`MAX_SUMMED_SUBGROUP`] lanes and divide the workgroup (the
-/// sums read every lane of a subgroup), else one atomic a VPL; or the fixed-point kernel.
+/// The injection's SPIR-V, its specialisation and its description, for `injection` on `gpu`:
+/// float atomics summed per cell across each subgroup first on a CPU device whose subgroups
+/// shuffle, are at most [`MAX_SUMMED_SUBGROUP`] lanes and divide the workgroup (the sums read
+/// every lane of a subgroup), else one atomic a VPL; or the fixed-point kernel.
 fn injection_kernel(
     gpu: &Gpu,
     injection: Injection,
