@@ -7,7 +7,7 @@ use glam::{DVec3, DVec4, Vec3};
 use vkgi::gi::lpv::cpu::{self, StepParams};
 use vkgi::gi::lpv::geometry::{BlockingLobe, GeometryLattice};
 use vkgi::gi::lpv::projected;
-use vkgi::gi::lpv::technique::{ChannelPlan, FarLattice, IlpvLookup};
+use vkgi::gi::lpv::technique::{ChannelPlan, FarLattice, IlpvLookup, column_cells};
 use vkgi::gi::lpv::transfer::FaceScheme;
 use vkgi::gi::lpv::two_scale;
 use vkgi::gi::lpv::{Kernel, LookupFilter, Lpv, LpvSettings, Scheme};
@@ -182,6 +182,10 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
                         ..LpvSettings::default()
                     };
                     let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
+                    // The column kernels split this lattice's columns into pieces (the test
+                    // below has them walk whole columns).
+                    let dims = lpv.lattice.dims;
+                    assert!(column_cells(dims.to_array(), 1) < dims.z, "{dims}");
                     let cells = lpv.lattice.cell_count();
                     let starts = [1, 2, 3].map(|seed| random_lattice(cells, 1.0, seed));
                     let geometry = if blocking {
@@ -312,6 +316,9 @@ fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
             });
             let [(dims, tiled), (_, column), (_, single)] = results;
             assert!(dims.x >= 24, "{scheme:?} {lattice}: {dims}");
+            // Here each single-column thread walks its whole column (and skips the planes past
+            // the lattice); the 9-cell lattice of the test above splits columns into pieces.
+            assert!(column_cells(dims.to_array(), 1) >= dims.z, "{dims}");
             assert!(
                 tiled == column,
                 "{scheme:?} {dims}: the column kernel's bits differ"

@@ -26,13 +26,13 @@ void main() {
         nearer_own[m] = no_geometry();
         farther_own[m] = no_geometry();
     }
-    // The plane above the piece starts its last cells.
-    load_plane(ivec3(first.xy, last + 1), 0);
+    // The plane above the piece starts its last cells (above a whole column: nothing).
+    if (WHOLE_COLUMNS == 0u) load_plane(ivec3(first.xy, last + 1), 0);
     [[unroll]] for (int m = 0; m < MEMBERS; ++m) {
         bundle_member = ivec2(m % BUNDLE, m / BUNDLE);
         ivec3 cell = ivec3(first.xy + bundle_member, last);
         nearer_own[m] = own_geometry(cell);
-        gather_group(cell, 0, nearer_own[m], nearer[m]);
+        if (WHOLE_COLUMNS == 0u) gather_group(cell, 0, nearer_own[m], nearer[m]);
     }
     // Every thread of a workgroup shares its z range, so the loop ends for all at once.
     for (int p = last; p >= first.z; --p) {
@@ -55,19 +55,23 @@ void main() {
             gather_group(down, 0, nearer_own[m], nearer[m]);
         }
     }
-    // The plane below the piece completes its first cells.
-    load_plane(ivec3(first.xy, first.z - 1), 0);
+    // The plane below the piece completes its first cells (below a whole column: nothing).
+    if (WHOLE_COLUMNS == 0u) load_plane(ivec3(first.xy, first.z - 1), 0);
     [[unroll]] for (int m = 0; m < MEMBERS; ++m) {
         bundle_member = ivec2(m % BUNDLE, m / BUNDLE);
         ivec3 cell = ivec3(first.xy + bundle_member, first.z);
-        gather_group(cell, 2, farther_own[m], farther[m]);
+        if (WHOLE_COLUMNS == 0u) gather_group(cell, 2, farther_own[m], farther[m]);
         if (all(lessThan(cell.xy, pc.dims.xy))) store(cell, farther[m]);
     }
 #elif LPV_COLUMN
     // The bundle's first column, and the first cell of its piece of the column.
     ivec3 first = ivec3(gl_GlobalInvocationID.xy * BUNDLE, gl_GlobalInvocationID.z * COLUMN);
     if (!lattice_inside(first, pc.dims.xyz)) return;
-    load_plane(first, -1);
+    if (WHOLE_COLUMNS != 0u) {
+        clear_plane(-1);
+    } else {
+        load_plane(first, -1);
+    }
     load_plane(first, 0);
     // Every thread of a workgroup shares its z range, so the loop ends for all at once.
     for (uint k = 0u; k < COLUMN; ++k) {

@@ -73,6 +73,10 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
 //   z - 1, whose partial sums the thread carries, and nothing else is copied from plane to
 //   plane. Walking down, each cell's groups add in its gather's order: the gather's bits.
 layout(constant_id = 5) const uint COLUMN = 8u;
+// 1 where every thread's piece is its whole column (COLUMN cells or more): the planes just past
+// a piece, below and above the lattice, hold no light, and the walks neither read them nor add
+// their terms (each such term is a zero, which leaves a partial sum's bits as they are).
+layout(constant_id = 9) const uint WHOLE_COLUMNS = 0u;
 layout(constant_id = 6) const int BUNDLE = 1;
 const int BLOCK_SIDE = BUNDLE + 2;
 const int BLOCK_PLANE = BLOCK_SIDE * BLOCK_SIDE;
@@ -107,6 +111,19 @@ void load_plane(ivec3 origin, int dz) {
                 column_light[slot * CHANNELS + ch] = inside ? stored_light(k, ch) : vec4(0.0);
             }
             column_geometry[slot] = stored_cell_geometry(k, inside);
+        }
+    }
+}
+
+// The plane dz of the block, zero: the block's plane below a whole column.
+void clear_plane(int dz) {
+    [[unroll]] for (int dy = -1; dy <= BUNDLE; ++dy) {
+        [[unroll]] for (int dx = -1; dx <= BUNDLE; ++dx) {
+            uint slot = block_slot(ivec3(dx, dy, dz));
+            [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
+                column_light[slot * CHANNELS + ch] = vec4(0.0);
+            }
+            column_geometry[slot] = no_geometry();
         }
     }
 }

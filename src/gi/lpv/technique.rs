@@ -950,7 +950,13 @@ impl Lpv {
         }
         match (kernel, bundle) {
             (Kernel::Tiled, _) => spec = spec.with_u32(3, Z_PAD),
-            (_, Some(bundle)) => spec = spec.with_u32(5, column).with_u32(6, bundle),
+            (_, Some(bundle)) => {
+                let whole_columns = column >= lattice.dims.z;
+                spec = spec
+                    .with_u32(5, column)
+                    .with_u32(6, bundle)
+                    .with_u32(9, u32::from(whole_columns));
+            }
             (_, None) => {}
         }
         let none = Specialization::new();
