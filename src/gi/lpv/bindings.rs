@@ -18,8 +18,17 @@ crate::shared_constants! {
     RESOLVE_LATTICE_B: u32 = 5;
 
     // ---- ILPV merge and clamp compensation ----
-    MERGE_CURRENT: u32 = 0;
-    MERGE_PREVIOUS: u32 = 1;
+    // The blend: one channel (the _R bindings) or all three; target, current and previous
+    // lattices (target and current the same one where the blend is in place).
+    MERGE_TARGET_R: u32 = 0;
+    MERGE_TARGET_G: u32 = 1;
+    MERGE_TARGET_B: u32 = 2;
+    MERGE_CURRENT_R: u32 = 3;
+    MERGE_CURRENT_G: u32 = 4;
+    MERGE_CURRENT_B: u32 = 5;
+    MERGE_PREVIOUS_R: u32 = 6;
+    MERGE_PREVIOUS_G: u32 = 7;
+    MERGE_PREVIOUS_B: u32 = 8;
     // Compensation: one channel (the _R bindings) or all three; the cells written as storage
     // and, where the lattices have texel views, read as texels.
     COMPENSATE_CELLS_R: u32 = 0;

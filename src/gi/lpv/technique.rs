@@ -449,9 +449,10 @@ crate::push_constants! {
 
 crate::push_constants! {
     struct MergePush {
+        /// Per channel of the part (R or its one channel first).
+        previous_factor: [f32; 4],
+        current_factor: [f32; 4],
         cells: u32,
-        previous_factor: f32,
-        current_factor: f32,
     }
 }
 
@@ -627,6 +628,32 @@ pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &
         (Scheme::Lpv, Kernel::Column | Kernel::SingleColumn, Fused) => {
             shaders::GI_LPV_LPV_COLUMN_RGB_COMP
         }
+    }
+}
+
+/// The blend's bindings for channel `i` of a part: the lattice it writes, this frame's and last
+/// frame's.
+fn merge_bindings<'a>(
+    i: usize,
+    target: &'a Buffer,
+    current: &'a Buffer,
+    previous: &'a Buffer,
+) -> [Binding<'a>; 3] {
+    const TARGETS: [u32; 3] = [ids::MERGE_TARGET_R, ids::MERGE_TARGET_G, ids::MERGE_TARGET_B];
+    const CURRENTS: [u32; 3] = [ids::MERGE_CURRENT_R, ids::MERGE_CURRENT_G, ids::MERGE_CURRENT_B];
+    const PREVIOUS: [u32; 3] = [ids::MERGE_PREVIOUS_R, ids::MERGE_PREVIOUS_G, ids::MERGE_PREVIOUS_B];
+    [
+        Binding::write(TARGETS[i], target),
+        Binding::read(CURRENTS[i], current),
+        Binding::read(PREVIOUS[i], previous),
+    ]
+}
+
+/// The SPIR-V of ILPV's blend for a channel plan.
+pub fn merge_spirv(plan: ChannelPlan) -> &'static [u8] {
+    match plan {
+        ChannelPlan::Separate => shaders::GI_LPV_MERGE_COMP,
+        ChannelPlan::Fused => shaders::GI_LPV_MERGE_RGB_COMP,
     }
 }
 
@@ -1062,7 +1089,7 @@ impl Lpv {
             inject_pipeline: ComputePipeline::new(gpu, "inject", inject_spirv, &inject_spec)?,
             injection_kernel,
             fixed,
-            merge_pipeline: ComputePipeline::new(gpu, "merge", shaders::GI_LPV_MERGE_COMP, &none)?,
+            merge_pipeline: ComputePipeline::new(gpu, "merge", merge_spirv(plan), &none)?,
             compensate_pipeline: ComputePipeline::new(
                 gpu,
                 "compensate",
@@ -1293,10 +1320,8 @@ impl Lpv {
         channels: &[usize],
         current: usize,
     ) -> GpuResult<usize> {
-        for &channel in channels {
-            self.record_merge(rec, channel, current)?;
-            self.start_accumulation(rec, channel, current)?;
-        }
+        self.record_merge(rec, channels, current)?;
+        self.start_accumulation(rec, channels, current)?;
         self.record_steps(rec, channels, current)
     }
 
@@ -1319,48 +1344,64 @@ impl Lpv {
         Ok(src)
     }
 
-    /// Blend last frame's light of `channel` into this frame's injection (ILPV), where the
-    /// blend changes it.
-    fn record_merge(&self, rec: &mut Recorder, channel: usize, current: usize) -> GpuResult<()> {
-        let pair = &self.lattices[channel];
-        let (previous_factor, current_factor) = self.blend_weights(channel);
-        if previous_factor == 0.0 && current_factor == 1.0 {
+    /// Blend last frame's light of `channels` into this frame's injection (ILPV), in one
+    /// dispatch, where the blend changes it.
+    fn record_merge(&self, rec: &mut Recorder, channels: &[usize], current: usize) -> GpuResult<()> {
+        let weights: Vec<(f32, f32)> = channels.iter().map(|&c| self.blend_weights(c)).collect();
+        if weights.iter().all(|&(previous, current)| previous == 0.0 && current == 1.0) {
             return Ok(());
         }
+        let [mut previous_factor, mut current_factor] = [[0.0f32; 4]; 2];
+        let mut bindings = Vec::with_capacity(3 * channels.len());
+        for (i, (&channel, &(previous, now))) in channels.iter().zip(&weights).enumerate() {
+            (previous_factor[i], current_factor[i]) = (previous, now);
+            let pair = &self.lattices[channel];
+            bindings.extend(merge_bindings(i, &pair[current], &pair[current], &pair[1 - current]));
+        }
+        self.record_blend(rec, &bindings, previous_factor, current_factor)
+    }
+
+    /// The blend pass over the lattice's cells: `bindings` from [`merge_bindings`], the
+    /// factors per channel of the part.
+    fn record_blend(
+        &self,
+        rec: &mut Recorder,
+        bindings: &[Binding<'_>],
+        previous_factor: [f32; 4],
+        current_factor: [f32; 4],
+    ) -> GpuResult<()> {
         let cells = self.lattice.cell_count() as u32;
-        let push = MergePush {
-            cells,
-            previous_factor,
-            current_factor,
-        };
         rec.compute(&ComputePass {
             name: "merge",
             pipeline: &self.merge_pipeline,
-            bindings: &[
-                Binding::write(ids::MERGE_CURRENT, &pair[current]),
-                Binding::read(ids::MERGE_PREVIOUS, &pair[1 - current]),
-            ],
-            push: &push,
+            bindings,
+            push: &MergePush {
+                previous_factor,
+                current_factor,
+                cells,
+            },
             threads: [cells, 1, 1],
         })
     }
 
-    /// Start `channel`'s accumulation with lattice `current` (a far field's: and the light it
-    /// carries from last frame), unless the lookup reads the last step alone.
+    /// Start the accumulation of `channels` with lattice `current` (a far field's: and the
+    /// light it carries from last frame), unless the lookup reads the last step alone.
     fn start_accumulation(
         &self,
         rec: &mut Recorder,
-        channel: usize,
+        channels: &[usize],
         current: usize,
     ) -> GpuResult<()> {
         if self.settings.reads_final() {
             return Ok(());
         }
-        let acc = &self.accumulation[channel];
         match self.field {
-            Field::Far => self.record_carried_start(rec, channel, current),
+            Field::Far => self.record_carried_start(rec, channels, current),
             Field::Whole => {
-                rec.copy_buffer("accumulate", &self.lattices[channel][current], acc, acc.size);
+                for &channel in channels {
+                    let acc = &self.accumulation[channel];
+                    rec.copy_buffer("accumulate", &self.lattices[channel][current], acc, acc.size);
+                }
                 Ok(())
             }
         }
@@ -1368,32 +1409,24 @@ impl Lpv {
 
     /// A far field's accumulation starts with the light carried from last frame, λ̃a times
     /// its last result, and the share `far_injection` (α) of this frame's injection, whose
-    /// rest the near field resolves: α·merged + (1 - α)·λ̃a·previous.
+    /// rest the near field resolves: α·merged + (1 - α)·λ̃a·previous, in one blend.
     fn record_carried_start(
         &self,
         rec: &mut Recorder,
-        channel: usize,
+        channels: &[usize],
         current: usize,
     ) -> GpuResult<()> {
-        let acc = &self.accumulation[channel];
         let alpha = self.settings.far_injection;
-        rec.copy_buffer("accumulate", &self.lattices[channel][current], acc, acc.size);
-        let (previous_factor, _) = self.blend_weights(channel);
-        let push = MergePush {
-            cells: self.lattice.cell_count() as u32,
-            previous_factor: previous_factor * (1.0 - alpha),
-            current_factor: alpha,
-        };
-        rec.compute(&ComputePass {
-            name: "merge",
-            pipeline: &self.merge_pipeline,
-            bindings: &[
-                Binding::write(ids::MERGE_CURRENT, acc),
-                Binding::read(ids::MERGE_PREVIOUS, &self.lattices[channel][1 - current]),
-            ],
-            push: &push,
-            threads: [self.lattice.cell_count() as u32, 1, 1],
-        })
+        let [mut previous_factor, mut current_factor] = [[0.0f32; 4]; 2];
+        let mut bindings = Vec::with_capacity(3 * channels.len());
+        for (i, &channel) in channels.iter().enumerate() {
+            let (previous, _) = self.blend_weights(channel);
+            (previous_factor[i], current_factor[i]) = (previous * (1.0 - alpha), alpha);
+            let pair = &self.lattices[channel];
+            let acc = &self.accumulation[channel];
+            bindings.extend(merge_bindings(i, acc, &pair[current], &pair[1 - current]));
+        }
+        self.record_blend(rec, &bindings, previous_factor, current_factor)
     }
 
     /// One propagation step of the colour channels `channels` (one dispatch for them all) from
@@ -1576,9 +1609,7 @@ impl Lpv {
             };
             let channels = self.part_channels(index)?;
             result = rec.in_part(part, |rec| {
-                for &channel in channels {
-                    self.start_accumulation(rec, channel, 0)?;
-                }
+                self.start_accumulation(rec, channels, 0)?;
                 let result = self.record_steps(rec, channels, 0)?;
                 for &channel in channels {
                     self.copy_to_lookup(rec, channel, result);
