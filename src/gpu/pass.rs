@@ -998,17 +998,37 @@ impl<'a> Recorder<'a> {
 
     /// Copy `size` bytes from the start of `src` to the start of `dst`.
     pub fn copy_buffer(&mut self, name: &'static str, src: &Buffer, dst: &Buffer, size: u64) {
+        self.copy_buffers(name, &[(src, dst, size)]);
+    }
+
+    /// Each copy `(src, dst, size)`: `size` bytes from the start of `src` to the start of
+    /// `dst`, as one pass (one barrier and one timestamp scope for all: on lavapipe each pass
+    /// costs tens of microseconds however little it moves). No buffer may be both a source and
+    /// a destination.
+    pub fn copy_buffers(&mut self, name: &'static str, copies: &[(&Buffer, &Buffer, u64)]) {
+        debug_assert!(
+            copies
+                .iter()
+                .all(|(_, dst, _)| copies.iter().all(|(src, _, _)| src.raw != dst.raw)),
+            "{name}: a buffer is both copied from and to"
+        );
         let scope = self.begin_scope(name);
-        self.sync(&[
-            (Resource::Buffer(src), Access::TransferRead),
-            (Resource::Buffer(dst), Access::TransferWrite),
-        ]);
-        let region = vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
-            size,
-        };
-        if size > 0 {
+        let accesses: Vec<(Resource, Access)> = copies
+            .iter()
+            .flat_map(|&(src, dst, _)| {
+                [
+                    (Resource::Buffer(src), Access::TransferRead),
+                    (Resource::Buffer(dst), Access::TransferWrite),
+                ]
+            })
+            .collect();
+        self.sync(&accesses);
+        for &(src, dst, size) in copies.iter().filter(|(_, _, size)| *size > 0) {
+            let region = vk::BufferCopy {
+                src_offset: 0,
+                dst_offset: 0,
+                size,
+            };
             // SAFETY: both buffers are alive and at least `size` bytes long.
             unsafe {
                 self.gpu
@@ -1022,15 +1042,30 @@ impl<'a> Recorder<'a> {
 
     /// Fill a buffer with a repeated 32-bit value (0 clears it).
     pub fn fill_buffer(&mut self, name: &'static str, buffer: &Buffer, value: u32) {
+        self.fill_buffers(name, &[(buffer, value)]);
+    }
+
+    /// Fill each buffer with its repeated 32-bit value, as one pass (one barrier and one
+    /// timestamp scope for all).
+    pub fn fill_buffers(&mut self, name: &'static str, fills: &[(&Buffer, u32)]) {
         let scope = self.begin_scope(name);
-        self.sync(&[(Resource::Buffer(buffer), Access::TransferWrite)]);
-        // SAFETY: the buffer is alive and was created with TRANSFER_DST.
-        unsafe {
-            self.gpu
-                .shared
-                .device
-                .cmd_fill_buffer(self.cmd, buffer.raw, 0, vk::WHOLE_SIZE, value)
-        };
+        let accesses: Vec<(Resource, Access)> = fills
+            .iter()
+            .map(|&(buffer, _)| (Resource::Buffer(buffer), Access::TransferWrite))
+            .collect();
+        self.sync(&accesses);
+        for &(buffer, value) in fills {
+            // SAFETY: the buffer is alive and was created with TRANSFER_DST.
+            unsafe {
+                self.gpu.shared.device.cmd_fill_buffer(
+                    self.cmd,
+                    buffer.raw,
+                    0,
+                    vk::WHOLE_SIZE,
+                    value,
+                )
+            };
+        }
         self.end_scope(scope);
     }
 

@@ -337,8 +337,10 @@ impl PathTracer {
         self.push.samples = samples;
         let push = self.push;
         gpu.one_shot(|rec| {
-            rec.fill_buffer("clear sums", &self.direct_sum, 0);
-            rec.fill_buffer("clear sums", &self.indirect_sum, 0);
+            rec.fill_buffers(
+                "clear sums",
+                &[(&self.direct_sum, 0), (&self.indirect_sum, 0)],
+            );
             rec.compute(&ComputePass {
                 name: "path trace",
                 pipeline: &self.pipeline,
@@ -357,17 +359,20 @@ impl PathTracer {
                 push: &push,
                 threads: [push.size[0], push.size[1], 1],
             })?;
-            rec.copy_buffer(
+            rec.copy_buffers(
                 "read sums",
-                &self.direct_sum,
-                &self.direct_readback,
-                self.direct_sum.size,
-            );
-            rec.copy_buffer(
-                "read sums",
-                &self.indirect_sum,
-                &self.indirect_readback,
-                self.indirect_sum.size,
+                &[
+                    (
+                        &self.direct_sum,
+                        &self.direct_readback,
+                        self.direct_sum.size,
+                    ),
+                    (
+                        &self.indirect_sum,
+                        &self.indirect_readback,
+                        self.indirect_sum.size,
+                    ),
+                ],
             );
             rec.host_read(&self.direct_readback);
             rec.host_read(&self.indirect_readback);

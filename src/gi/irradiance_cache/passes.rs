@@ -254,8 +254,7 @@ impl Passes {
             generation: 1,
         };
         gpu.one_shot(|rec| {
-            rec.fill_buffer("ic state start", &passes.state, 0);
-            rec.fill_buffer("ic draws start", &passes.draws, 0);
+            rec.fill_buffers("ic start", &[(&passes.state, 0), (&passes.draws, 0)]);
             Ok(())
         })?;
         Ok(passes)

@@ -1226,16 +1226,14 @@ impl Lpv {
         let lattices = [0, 1, 2].map(|c| &self.lattices[c][target]);
         let bytes = self.lattice.cell_count() as u64 * 16;
         if self.reuses_injection {
-            for (kept, lattice) in self.injected.iter().zip(lattices) {
-                rec.copy_buffer("kept injection", kept, lattice, bytes);
-            }
+            let copies = [0, 1, 2].map(|c| (&self.injected[c], lattices[c], bytes));
+            rec.copy_buffers("kept injection", &copies);
             return Ok(());
         }
         self.record_new_injection(rec, ctx, rsm, views, lattices)?;
         if self.injection_kept {
-            for (lattice, kept) in lattices.into_iter().zip(&self.injected) {
-                rec.copy_buffer("keep injection", lattice, kept, bytes);
-            }
+            let copies = [0, 1, 2].map(|c| (lattices[c], &self.injected[c], bytes));
+            rec.copy_buffers("keep injection", &copies);
         }
         Ok(())
     }
@@ -1258,9 +1256,7 @@ impl Lpv {
             None => "clear lattice",
             Some(_) => "clear injection sums",
         };
-        for sums in [r, g, b] {
-            rec.fill_buffer(clear, sums, 0);
-        }
+        rec.fill_buffers(clear, &[(r, 0), (g, 0), (b, 0)]);
         let scale = fixed_point_scale(self.energy);
         let mut dims = self.dims();
         dims[3] = self.settings.rsm as i32;
@@ -1398,10 +1394,14 @@ impl Lpv {
         match self.field {
             Field::Far => self.record_carried_start(rec, channels, current),
             Field::Whole => {
-                for &channel in channels {
-                    let acc = &self.accumulation[channel];
-                    rec.copy_buffer("accumulate", &self.lattices[channel][current], acc, acc.size);
-                }
+                let copies: Vec<_> = channels
+                    .iter()
+                    .map(|&c| {
+                        let acc = &self.accumulation[c];
+                        (&self.lattices[c][current], acc, acc.size)
+                    })
+                    .collect();
+                rec.copy_buffers("accumulate", &copies);
                 Ok(())
             }
         }

@@ -325,11 +325,16 @@ impl Passes {
             first_side,
         };
         gpu.one_shot(|rec| {
-            for set in 0..2 {
-                rec.fill_buffer("rv address start", &passes.address[set], ids::RV_EMPTY);
-                rec.fill_buffer("rv state start", &passes.state[set], 0);
-            }
-            rec.fill_buffer("rv voxels start", &passes.voxels.volume, 0);
+            rec.fill_buffers(
+                "rv start",
+                &[
+                    (&passes.address[0], ids::RV_EMPTY),
+                    (&passes.address[1], ids::RV_EMPTY),
+                    (&passes.state[0], 0),
+                    (&passes.state[1], 0),
+                    (&passes.voxels.volume, 0),
+                ],
+            );
             Ok(())
         })?;
         Ok(passes)
@@ -499,8 +504,10 @@ impl Passes {
         let state = &self.state[previous];
         rec.copy_buffer("rv state copy", state, &self.state_copy, state.size);
         rec.host_read(&self.state_copy);
-        rec.fill_buffer("rv clear address volume", &self.address[previous], ids::RV_EMPTY);
-        rec.fill_buffer("rv clear counters", state, 0);
+        rec.fill_buffers(
+            "rv clear",
+            &[(&self.address[previous], ids::RV_EMPTY), (state, 0)],
+        );
         self.parity = previous;
         Ok(())
     }

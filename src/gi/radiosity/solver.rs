@@ -423,20 +423,21 @@ impl Solver {
     /// forget the importance and the stored table, and shoot the punctual lights (each first,
     /// as point emitters, to every receiver: the modes steer only the surfaces' shots).
     pub fn record_restart(&self, rec: &mut Recorder, lights: &[Light]) -> GpuResult<()> {
-        for buffer in [
-            &self.unshot,
-            &self.direct,
-            &self.indirect,
-            &self.shot,
-            &self.importance,
-            &self.importance_unshot,
-            &self.importance_received,
-            &self.importance_shot,
-            &self.visible,
-        ] {
-            rec.fill_buffer("radiosity clear", buffer, 0);
-        }
-        rec.fill_buffer("radiosity clear", &self.emission_unshot, 1);
+        rec.fill_buffers(
+            "radiosity clear",
+            &[
+                (&self.unshot, 0),
+                (&self.direct, 0),
+                (&self.indirect, 0),
+                (&self.shot, 0),
+                (&self.importance, 0),
+                (&self.importance_unshot, 0),
+                (&self.importance_received, 0),
+                (&self.importance_shot, 0),
+                (&self.visible, 0),
+                (&self.emission_unshot, 1),
+            ],
+        );
         self.table.record_clear(rec);
         for light in lights {
             let locations = light_locations(light);
@@ -451,9 +452,14 @@ impl Solver {
     /// Importance ≡ 1 on every element, none unshot: the id mode then picks as pr does (the
     /// equivalence the spec's validation asks for). For tests and comparisons.
     pub fn record_uniform_importance(&self, rec: &mut Recorder) {
-        rec.fill_buffer("radiosity uniform importance", &self.importance, 1.0f32.to_bits());
-        rec.fill_buffer("radiosity uniform importance", &self.importance_unshot, 0);
-        rec.fill_buffer("radiosity uniform importance", &self.importance_received, 0);
+        rec.fill_buffers(
+            "radiosity uniform importance",
+            &[
+                (&self.importance, 1.0f32.to_bits()),
+                (&self.importance_unshot, 0),
+                (&self.importance_received, 0),
+            ],
+        );
     }
 
     /// The camera moved (id, pd): each element's importance received directly from it is

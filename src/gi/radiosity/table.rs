@@ -101,9 +101,10 @@ impl StoredTable {
 
     /// Empty the table (a restart).
     pub fn record_clear(&self, rec: &mut Recorder) {
-        for buffer in [&self.entries, &self.columns, &self.delivery] {
-            rec.fill_buffer("radiosity table clear", buffer, 0);
-        }
+        rec.fill_buffers(
+            "radiosity table clear",
+            &[(&self.entries, 0), (&self.columns, 0), (&self.delivery, 0)],
+        );
     }
 
     /// What the gather reads of a delivery.
