@@ -179,6 +179,7 @@ pub enum Kernel {
     /// barrier (for CPU devices, where every load is made lane by lane). LPV keeps the block of
     /// three planes around the bundle in registers and gathers from it; ILPV walks down as a
     /// stream, adding each plane to the partial sums of the bundle's cells it is a source of.
+    /// A thread that walks its whole column leaves out the planes past the lattice.
     Column,
     /// The column kernel with one column a thread: more cells read a column (ILPV 9, LPV 5),
     /// fewer to keep (on lavapipe, faster for some lattices: the autotune measures it).
