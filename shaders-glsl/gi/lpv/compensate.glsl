@@ -1,8 +1,6 @@
-// Clamp compensation for the 26-neighbour step (in place): apply the step's medium to each cell
-// (absorption from both bands, isotropic scattering moves the directional band's scattered
-// part into the DC band) and scale it so that one unblocked step, then pure transport, moves
-// exactly the energy the medium left: by E over the energy the clamped transfers would move.
-// src/gi/lpv/cpu.rs medium_mix and compensate_clamp in f64. The including shader defines
+// Clamp compensation for the 26-neighbour step (compensation.glsl), in place, of the lattice a
+// frame's first step propagates (the later steps' sources are compensated as their previous
+// step stores them). The including shader defines
 // CHANNELS (1: one colour channel a dispatch, at the _R bindings; 3: R, G and B in one) and
 // LPV_TEXELS (1: the cells are read through their texel views, as the column kernel's
 // lattices allow; 0: as storage buffers). Included by lpv/compensate{,_rgb}{,_texels}.comp.
@@ -45,14 +43,15 @@ layout(push_constant) uniform Push {
 // The neighbours' transfer vectors, read once at the top of main (docs/performance.md).
 vec4 transfer[26];
 
-// Cell light `cell` after the medium, compensated for the clamped transfers.
+vec4 compensation_transfer(int d) {
+    return transfer[d];
+}
+
+#include "gi/lpv/compensation.glsl"
+
+// Cell light `cell` compensated with this pass's medium.
 vec4 compensated(vec4 cell) {
-    vec4 l = cell * vec4(pc.keep_dc, vec3(pc.keep_directional));
-    float moved = 0.0;
-    [[unroll]] for (int d = 0; d < 26; ++d) {
-        moved += max(dot(l, transfer[d]), 0.0) * transfer[d].x;
-    }
-    return moved > 0.0 && l.x > 0.0 ? l * (l.x / moved) : l;
+    return compensated(cell, pc.keep_dc, pc.keep_directional);
 }
 
 void main() {

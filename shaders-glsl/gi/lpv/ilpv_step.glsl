@@ -22,6 +22,9 @@ layout(push_constant) uniform Push {
     float scatter_energy;  // 2 sqrt(pi) λs
     float use_blocking;    // 0 in the first step of a frame
     uint accumulate;       // 1: also add the result to the accumulation lattice
+    float keep_dc;         // the clamp compensation's medium, 1 - λa
+    float keep_directional;  // 1 - λa - λs
+    uint compensate_result;  // 1: store the result compensated (a step follows this one)
 } pc;
 
 #include "gi/lpv/tile.glsl"
@@ -42,6 +45,29 @@ void load_step_constants() {
         neighbour_transfer[d] = neighbours[d].transfer;
         neighbour_outscatter[d] = neighbours[d].outscatter;
     }
+}
+
+vec4 compensation_transfer(int d) {
+    return neighbour_transfer[d];
+}
+
+#include "gi/lpv/compensation.glsl"
+
+// 1 where the clamp compensation applies the medium and the step stores its result: the steps
+// then store their results compensated for the next (pc.compensate_result, 0 in the last step,
+// whose result goes on raw), so that only a frame's first source needs a compensation pass.
+layout(constant_id = 10) const uint COMPENSATES_RESULT = 0u;
+
+// What the step stores of `light`: as the compensation pass would leave it for the next step
+// where one follows (the same function: the same bits), as it is otherwise.
+Light stored_result(Light light) {
+    if (COMPENSATES_RESULT == 0u) return light;
+    Light stored;
+    [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
+        vec4 next = compensated(light.c[c], pc.keep_dc, pc.keep_directional);
+        stored.c[c] = pc.compensate_result != 0u ? next : light.c[c];
+    }
+    return stored;
 }
 
 // The d-th of the 26 offsets in {-1,0,1}³ without the centre, x fastest (transfer.rs offsets).
@@ -93,7 +119,7 @@ void gather_group(ivec3 cell, int group, GeometryWords own_geometry, inout Light
 
 void store(ivec3 cell, Light dst) {
     uint i = lattice_index(cell, pc.dims.xyz);
-    store_light(i, dst);
+    store_light(i, stored_result(dst));
     if (pc.accumulate != 0u) accumulate_light(i, dst);
 }
 

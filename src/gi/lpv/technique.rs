@@ -8,7 +8,7 @@ use glam::DVec4;
 
 use super::autotune;
 use super::bindings as ids;
-use super::cost::{self, StepWrites};
+use super::cost::{self, StepMedium, StepWrites};
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
 use super::lookup::{
@@ -377,6 +377,13 @@ impl LpvSettings {
         self.steps_run() > 1 || self.last_result_read()
     }
 
+    /// Whether ILPV's steps store their results compensated for the next step (the clamp
+    /// compensation of every source but a frame's first, which has its own pass): where the
+    /// compensation is on and a step follows another within a frame.
+    pub(super) fn steps_compensate_results(&self) -> bool {
+        self.scheme == Scheme::Ilpv && self.clamp_compensation && self.steps_run() > 1
+    }
+
     /// Whether the ILPV step applies the medium (absorption and scattering) itself: not with
     /// clamp compensation, which applies it before the step, nor without a medium (both
     /// coefficients 0, which [`LpvSettings::medium`] turns into zero at every cell size).
@@ -472,6 +479,9 @@ crate::push_constants! {
         scatter_energy: f32,
         use_blocking: f32,
         accumulate: u32,
+        keep_dc: f32,
+        keep_directional: f32,
+        compensate_result: u32,
     }
 }
 
@@ -974,7 +984,9 @@ impl Lpv {
             .with_u32(4, geometry_words)
             .with_u32(7, u32::from(settings.step_results_read()));
         if settings.scheme == Scheme::Ilpv {
-            spec = spec.with_u32(8, u32::from(settings.step_applies_medium()));
+            spec = spec
+                .with_u32(8, u32::from(settings.step_applies_medium()))
+                .with_u32(10, u32::from(settings.steps_compensate_results()));
         }
         match (kernel, bundle) {
             (Kernel::Tiled, _) => spec = spec.with_u32(3, Z_PAD),
@@ -1449,20 +1461,25 @@ impl Lpv {
         let bindings = self.step_bindings(channels, src);
         match self.settings.scheme {
             Scheme::Ilpv => {
-                // With compensation the medium is applied there; the step only transports.
+                let keep_dc = (1.0 - absorption) as f32;
+                let keep_directional = (1.0 - absorption - scattering) as f32;
+                // With compensation the medium is applied there; the step only transports. The
+                // first step's source is compensated by its own pass, each later one's by the
+                // step before as it stores it.
                 let (absorption, scattering) = if self.settings.clamp_compensation {
-                    let push = CompensatePush {
-                        count: cells,
-                        keep_dc: (1.0 - absorption) as f32,
-                        keep_directional: (1.0 - absorption - scattering) as f32,
-                    };
-                    rec.compute(&ComputePass {
-                        name: "compensate",
-                        pipeline: &self.compensate_pipeline,
-                        bindings: &self.compensate_bindings(channels, src),
-                        push: &push,
-                        threads: [cells, 1, 1],
-                    })?;
+                    if step == 0 {
+                        rec.compute(&ComputePass {
+                            name: "compensate",
+                            pipeline: &self.compensate_pipeline,
+                            bindings: &self.compensate_bindings(channels, src),
+                            push: &CompensatePush {
+                                count: cells,
+                                keep_dc,
+                                keep_directional,
+                            },
+                            threads: [cells, 1, 1],
+                        })?;
+                    }
                     (0.0, 0.0)
                 } else {
                     (absorption, scattering)
@@ -1473,6 +1490,11 @@ impl Lpv {
                     scatter_energy: (sh::SQRT_PI_2 * scattering) as f32,
                     use_blocking,
                     accumulate: u32::from(self.accumulates(step)),
+                    keep_dc,
+                    keep_directional,
+                    compensate_result: u32::from(
+                        self.settings.steps_compensate_results() && step + 1 < self.settings.steps_run(),
+                    ),
                 };
                 rec.compute(&ComputePass {
                     name: self.propagate_pass,
@@ -1916,7 +1938,10 @@ impl GiMethod for Lpv {
             ),
             flops_per_unit: cost::flops_per_cell(
                 self.settings.scheme,
-                self.settings.step_applies_medium(),
+                StepMedium {
+                    applies: self.settings.step_applies_medium(),
+                    compensates_result: self.settings.steps_compensate_results(),
+                },
                 self.geometry_words(),
                 self.plan.channels(),
             ),
