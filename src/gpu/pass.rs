@@ -1004,13 +1004,20 @@ impl<'a> Recorder<'a> {
     /// Each copy `(src, dst, size)`: `size` bytes from the start of `src` to the start of
     /// `dst`, as one pass (one barrier and one timestamp scope for all: on lavapipe each pass
     /// costs tens of microseconds however little it moves). No buffer may be both a source and
-    /// a destination.
+    /// a destination, nor a destination twice.
     pub fn copy_buffers(&mut self, name: &'static str, copies: &[(&Buffer, &Buffer, u64)]) {
         debug_assert!(
             copies
                 .iter()
                 .all(|(_, dst, _)| copies.iter().all(|(src, _, _)| src.raw != dst.raw)),
             "{name}: a buffer is both copied from and to"
+        );
+        debug_assert!(
+            copies
+                .iter()
+                .enumerate()
+                .all(|(i, (_, a, _))| copies[..i].iter().all(|(_, b, _)| a.raw != b.raw)),
+            "{name}: a buffer is copied to twice"
         );
         let scope = self.begin_scope(name);
         let accesses: Vec<(Resource, Access)> = copies
@@ -1045,9 +1052,16 @@ impl<'a> Recorder<'a> {
         self.fill_buffers(name, &[(buffer, value)]);
     }
 
-    /// Fill each buffer with its repeated 32-bit value, as one pass (one barrier and one
-    /// timestamp scope for all).
+    /// Fill each buffer (each once) with its repeated 32-bit value, as one pass (one barrier
+    /// and one timestamp scope for all).
     pub fn fill_buffers(&mut self, name: &'static str, fills: &[(&Buffer, u32)]) {
+        debug_assert!(
+            fills
+                .iter()
+                .enumerate()
+                .all(|(i, (a, _))| fills[..i].iter().all(|(b, _)| a.raw != b.raw)),
+            "{name}: a buffer is filled twice"
+        );
         let scope = self.begin_scope(name);
         let accesses: Vec<(Resource, Access)> = fills
             .iter()

@@ -24,7 +24,8 @@ layout(push_constant) uniform Push {
     uint cells;
 } pc;
 
-// Cell `i` of one channel blended.
+// One channel's cell blended: this frame's `current`, last frame's `previous`, channel `c`'s
+// factors.
 vec4 blended(vec4 current, vec4 previous, int c) {
     float previous_factor = pc.previous_factor[c];
     vec4 carried = previous_factor > 0.0 ? previous * previous_factor : vec4(0.0);

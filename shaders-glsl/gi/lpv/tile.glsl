@@ -73,9 +73,12 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
 //   z - 1, whose partial sums the thread carries, and nothing else is copied from plane to
 //   plane. Walking down, each cell's groups add in its gather's order: the gather's bits.
 layout(constant_id = 5) const uint COLUMN = 8u;
-// 1 where every thread's piece is its whole column (COLUMN cells or more): the planes just past
-// a piece, below and above the lattice, hold no light, and the walks neither read them nor add
-// their terms (each such term is a zero, which leaves a partial sum's bits as they are).
+// 1 where the columns are not split, each thread's piece its whole column (COLUMN is the
+// lattice's depth: src/gi/lpv/technique.rs column_cells): the planes just past a piece, below
+// and above the lattice, hold no light. ILPV's stream neither reads them nor adds their terms
+// (zeros, which leave a partial sum's bits as they are where subnormals are kept); LPV's block
+// starts from a zero plane instead of reading the one below (the one above its last cell is
+// still read, inside its loop).
 layout(constant_id = 9) const uint WHOLE_COLUMNS = 0u;
 layout(constant_id = 6) const int BUNDLE = 1;
 const int BLOCK_SIDE = BUNDLE + 2;

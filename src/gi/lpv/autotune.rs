@@ -213,10 +213,12 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
 }
 
 /// The steps a candidate's probe is given: [`STEPS`], or one more or fewer where that makes its
-/// step write (or leave out) its result lattice as the lattice's own steps do, since the two are
-/// different kernels (`LpvSettings::step_results_read`).
+/// step write (or leave out) its result lattice, and compensate it for a next step (or not), as
+/// the lattice's own steps do, since each of those makes a different kernel
+/// (`LpvSettings::step_results_read`, `LpvSettings::steps_compensate_results`).
 fn probe_steps(settings: &LpvSettings) -> u32 {
-    let writes_result = settings.step_results_read();
+    let kernel_of = |s: &LpvSettings| (s.step_results_read(), s.steps_compensate_results());
+    let wanted = kernel_of(settings);
     [STEPS, STEPS + 1, STEPS - 1]
         .into_iter()
         .find(|&iterations| {
@@ -224,7 +226,7 @@ fn probe_steps(settings: &LpvSettings) -> u32 {
                 iterations,
                 ..settings.clone()
             };
-            probe.step_results_read() == writes_result
+            kernel_of(&probe) == wanted
         })
         .unwrap_or(STEPS)
 }
@@ -240,7 +242,7 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
             crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
+        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | compensates result {} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
         info.name,
         info.driver,
         settings.scheme,
@@ -248,6 +250,7 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
         settings.blocking_lobe.words_per_cell(),
         settings.step_results_read(),
         settings.step_applies_medium(),
+        settings.steps_compensate_results(),
         column_shape()
     )
 }
@@ -301,6 +304,7 @@ mod tests {
             ..LpvSettings::default()
         };
         for (scheme, iterations, incremental) in [
+            (Scheme::Ilpv, 1, 0.9),
             (Scheme::Ilpv, 2, 0.0),
             (Scheme::Ilpv, 3, 0.0),
             (Scheme::Ilpv, 8, 0.9),
@@ -312,6 +316,11 @@ mod tests {
             assert_eq!(
                 probe.step_results_read(),
                 lattice.step_results_read(),
+                "{scheme:?} {iterations} {incremental}"
+            );
+            assert_eq!(
+                probe.steps_compensate_results(),
+                lattice.steps_compensate_results(),
                 "{scheme:?} {iterations} {incremental}"
             );
             assert!(probe.steps_run() >= 1, "{scheme:?} {iterations} {incremental}");

@@ -12,9 +12,10 @@
 //! and dst += Γ·f 8: 29 flops with an SH lobe (754 per cell), 51 with the projected area (1326),
 //! 24 with visibility (624). Where the clamp compensation applies the medium before the step
 //! (the default) the step only transports: no outscattered energy, and the factor a max and a
-//! mul, 3 flops fewer per channel. Where another step follows within the frame, the step
-//! applies that compensation to the result it stores (the next step's source): the medium 4,
-//! per neighbour ⟨l|Γ⟩ 7, the clamp 1, the weight and the sum 2, the scale 5: 269 per channel.
+//! mul, 3 flops fewer per channel. Where a lattice runs more than one step a frame, its steps
+//! apply that compensation to the result they store (the next step's source; the last computes
+//! it too and stores its result raw): the medium 4, per neighbour ⟨l|Γ⟩ 7, the clamp 1, the
+//! weight and the sum 2, the scale 5: 269 per channel.
 //!
 //! LPV (6 neighbours, 5 faces): the same bytes (light and geometry read, result written but by
 //! a lone step, whose result nothing reads, the accumulation read and written every step). Per face ⟨src|eval⟩ 7, max 1, blocking 1,
@@ -85,26 +86,33 @@ pub fn bytes_per_cell(scheme: Scheme, writes: StepWrites, geometry_words: u32, c
 /// Flops of the clamp compensation of one cell and channel.
 pub const COMPENSATION_FLOPS: f64 = 4.0 + 26.0 * 10.0 + 5.0;
 
-/// What an ILPV step does besides transport: apply the medium itself, or compensate the result
-/// it stores for the next step.
-#[derive(Clone, Copy, Debug)]
-pub struct StepMedium {
-    pub applies: bool,
-    pub compensates_result: bool,
+/// What an ILPV step does besides transport (LPV's steps only transport).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepWork {
+    /// It applies absorption and scattering itself (no clamp compensation, a medium).
+    AppliesMedium,
+    /// It only transports (the clamp compensation has applied the medium, or there is none).
+    Transports,
+    /// It transports and stores its result compensated for the next step.
+    TransportsAndCompensates,
 }
 
 /// Floating-point operations a step performs per cell and channel, when a dispatch carries
-/// `channels` colour channels (1 or 3) and evaluates the blocking once for all of them; `medium`:
-/// what an ILPV step does of the medium (LPV has none).
-pub fn flops_per_cell(scheme: Scheme, medium: StepMedium, geometry_words: u32, channels: u32) -> f64 {
+/// `channels` colour channels (1 or 3) and evaluates the blocking once for all of them; `work`:
+/// what an ILPV step does besides transport.
+pub fn flops_per_cell(scheme: Scheme, work: StepWork, geometry_words: u32, channels: u32) -> f64 {
     let channels = f64::from(channels);
     let blocking = blocking_flops(geometry_words);
     match scheme {
         // Per neighbour 20 per channel (17 without the medium: the outscattered energy and
         // the factor's mul and fma); the blocking function and its clamp (2) once.
         Scheme::Ilpv => {
-            let per_channel = if medium.applies { 20.0 } else { 17.0 };
-            let compensation = if medium.compensates_result {
+            let per_channel = if work == StepWork::AppliesMedium {
+                20.0
+            } else {
+                17.0
+            };
+            let compensation = if work == StepWork::TransportsAndCompensates {
                 COMPENSATION_FLOPS
             } else {
                 0.0
@@ -147,21 +155,12 @@ pub const UPSAMPLE_FLOPS_PER_PIXEL: f64 = 9.0 + 8.0 + 4.0 * 43.0 + 4.0 + 3.0;
 mod tests {
     use super::*;
 
-    const APPLIES: StepMedium = StepMedium {
-        applies: true,
-        compensates_result: false,
-    };
-    const TRANSPORTS: StepMedium = StepMedium {
-        applies: false,
-        compensates_result: false,
-    };
+    const APPLIES: StepWork = StepWork::AppliesMedium;
+    const TRANSPORTS: StepWork = StepWork::Transports;
 
     #[test]
     fn counts_follow_the_derivation() {
-        let compensates = StepMedium {
-            applies: false,
-            compensates_result: true,
-        };
+        let compensates = StepWork::TransportsAndCompensates;
         assert_eq!(flops_per_cell(Scheme::Ilpv, compensates, 1, 3), 520.0 + 269.0);
         assert_eq!(flops_per_cell(Scheme::Ilpv, APPLIES, 1, 1), 754.0);
         assert_eq!(flops_per_cell(Scheme::Lpv, TRANSPORTS, 1, 1), 594.0);

@@ -8,7 +8,7 @@ use glam::DVec4;
 
 use super::autotune;
 use super::bindings as ids;
-use super::cost::{self, StepMedium, StepWrites};
+use super::cost::{self, StepWork, StepWrites};
 use super::geometry::{self, BlockingLobe, GeometryLattice};
 use super::lattice::{CellBox, Lattice};
 use super::lookup::{
@@ -179,7 +179,8 @@ pub enum Kernel {
     /// barrier (for CPU devices, where every load is made lane by lane). LPV keeps the block of
     /// three planes around the bundle in registers and gathers from it; ILPV walks down as a
     /// stream, adding each plane to the partial sums of the bundle's cells it is a source of.
-    /// A thread that walks its whole column leaves out the planes past the lattice.
+    /// Where columns are not split, a thread does not read the planes past the lattice (ILPV's
+    /// stream: nor add them; LPV's block: the one below).
     Column,
     /// The column kernel with one column a thread: more cells read a column (ILPV 9, LPV 5),
     /// fewer to keep (on lavapipe, faster for some lattices: the autotune measures it).
@@ -382,6 +383,17 @@ impl LpvSettings {
     /// compensation is on and a step follows another within a frame.
     pub(super) fn steps_compensate_results(&self) -> bool {
         self.scheme == Scheme::Ilpv && self.clamp_compensation && self.steps_run() > 1
+    }
+
+    /// What an ILPV step does besides transport, for its cost.
+    pub(super) fn step_work(&self) -> StepWork {
+        if self.step_applies_medium() {
+            StepWork::AppliesMedium
+        } else if self.steps_compensate_results() {
+            StepWork::TransportsAndCompensates
+        } else {
+            StepWork::Transports
+        }
     }
 
     /// Whether the ILPV step applies the medium (absorption and scattering) itself: not with
@@ -1357,7 +1369,7 @@ impl Lpv {
     /// dispatch, where the blend changes it.
     fn record_merge(&self, rec: &mut Recorder, channels: &[usize], current: usize) -> GpuResult<()> {
         let weights: Vec<(f32, f32)> = channels.iter().map(|&c| self.blend_weights(c)).collect();
-        if weights.iter().all(|&(previous, current)| previous == 0.0 && current == 1.0) {
+        if weights.iter().all(|&(carried, fresh)| carried == 0.0 && fresh == 1.0) {
             return Ok(());
         }
         let [mut previous_factor, mut current_factor] = [[0.0f32; 4]; 2];
@@ -1463,9 +1475,9 @@ impl Lpv {
             Scheme::Ilpv => {
                 let keep_dc = (1.0 - absorption) as f32;
                 let keep_directional = (1.0 - absorption - scattering) as f32;
-                // With compensation the medium is applied there; the step only transports. The
-                // first step's source is compensated by its own pass, each later one's by the
-                // step before as it stores it.
+                // With the clamp compensation, which applies the medium, the step only
+                // transports. The first step's source is compensated by its own pass, each later
+                // one's by the step before as it stores it.
                 let (absorption, scattering) = if self.settings.clamp_compensation {
                     if step == 0 {
                         rec.compute(&ComputePass {
@@ -1938,10 +1950,7 @@ impl GiMethod for Lpv {
             ),
             flops_per_unit: cost::flops_per_cell(
                 self.settings.scheme,
-                StepMedium {
-                    applies: self.settings.step_applies_medium(),
-                    compensates_result: self.settings.steps_compensate_results(),
-                },
+                self.settings.step_work(),
                 self.geometry_words(),
                 self.plan.channels(),
             ),

@@ -423,22 +423,20 @@ impl Solver {
     /// forget the importance and the stored table, and shoot the punctual lights (each first,
     /// as point emitters, to every receiver: the modes steer only the surfaces' shots).
     pub fn record_restart(&self, rec: &mut Recorder, lights: &[Light]) -> GpuResult<()> {
-        rec.fill_buffers(
-            "radiosity clear",
-            &[
-                (&self.unshot, 0),
-                (&self.direct, 0),
-                (&self.indirect, 0),
-                (&self.shot, 0),
-                (&self.importance, 0),
-                (&self.importance_unshot, 0),
-                (&self.importance_received, 0),
-                (&self.importance_shot, 0),
-                (&self.visible, 0),
-                (&self.emission_unshot, 1),
-            ],
-        );
-        self.table.record_clear(rec);
+        let mut fills = vec![
+            (&self.unshot, 0),
+            (&self.direct, 0),
+            (&self.indirect, 0),
+            (&self.shot, 0),
+            (&self.importance, 0),
+            (&self.importance_unshot, 0),
+            (&self.importance_received, 0),
+            (&self.importance_shot, 0),
+            (&self.visible, 0),
+            (&self.emission_unshot, 1),
+        ];
+        fills.extend(self.table.clearing_fills());
+        rec.fill_buffers("radiosity clear", &fills);
         for light in lights {
             let locations = light_locations(light);
             rec.update_buffer("radiosity light locations", &self.locations, bytemuck::cast_slice(&locations));

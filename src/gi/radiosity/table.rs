@@ -99,12 +99,9 @@ impl StoredTable {
         self.surface_count * self.slots
     }
 
-    /// Empty the table (a restart).
-    pub fn record_clear(&self, rec: &mut Recorder) {
-        rec.fill_buffers(
-            "radiosity table clear",
-            &[(&self.entries, 0), (&self.columns, 0), (&self.delivery, 0)],
-        );
+    /// The fills that empty the table (a restart), for the restart's one clearing pass.
+    pub fn clearing_fills(&self) -> [(&Buffer, u32); 3] {
+        [(&self.entries, 0), (&self.columns, 0), (&self.delivery, 0)]
     }
 
     /// What the gather reads of a delivery.
