@@ -421,6 +421,13 @@ pub struct ResourceUse {
     pub writes: bool,
 }
 
+/// Whether no buffer appears twice (a pass that writes one buffer twice would need a barrier
+/// between the writes).
+fn all_distinct(mut buffers: impl Iterator<Item = vk::Buffer>) -> bool {
+    let mut seen = std::collections::HashSet::new();
+    buffers.all(|buffer| seen.insert(buffer))
+}
+
 /// Records passes into one command buffer of one queue family, tagging each with its context.
 pub struct Recorder<'a> {
     gpu: &'a Gpu,
@@ -1013,10 +1020,7 @@ impl<'a> Recorder<'a> {
             "{name}: a buffer is both copied from and to"
         );
         debug_assert!(
-            copies
-                .iter()
-                .enumerate()
-                .all(|(i, (_, a, _))| copies[..i].iter().all(|(_, b, _)| a.raw != b.raw)),
+            all_distinct(copies.iter().map(|(_, dst, _)| dst.raw)),
             "{name}: a buffer is copied to twice"
         );
         let scope = self.begin_scope(name);
@@ -1056,10 +1060,7 @@ impl<'a> Recorder<'a> {
     /// and one timestamp scope for all).
     pub fn fill_buffers(&mut self, name: &'static str, fills: &[(&Buffer, u32)]) {
         debug_assert!(
-            fills
-                .iter()
-                .enumerate()
-                .all(|(i, (a, _))| fills[..i].iter().all(|(b, _)| a.raw != b.raw)),
+            all_distinct(fills.iter().map(|(buffer, _)| buffer.raw)),
             "{name}: a buffer is filled twice"
         );
         let scope = self.begin_scope(name);

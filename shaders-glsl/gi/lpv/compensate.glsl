@@ -49,11 +49,6 @@ vec4 compensation_transfer(int d) {
 
 #include "gi/lpv/compensation.glsl"
 
-// Cell light `cell` compensated with this pass's medium.
-vec4 compensated(vec4 cell) {
-    return compensated(cell, pc.keep_dc, pc.keep_directional);
-}
-
 void main() {
     [[unroll]] for (int d = 0; d < 26; ++d) transfer[d] = neighbours[d].transfer;
     // No early return: with the rest under a branch, lavapipe took 2.7x this pass's time to read
@@ -62,10 +57,10 @@ void main() {
     // value is discarded) and stores nothing.
     uint i = min(gl_GlobalInvocationID.x, pc.count - 1u);
     bool stores = gl_GlobalInvocationID.x < pc.count;
-    vec4 r = compensated(READ_CELL(read_r, cells_r, i));
+    vec4 r = compensated(READ_CELL(read_r, cells_r, i), pc.keep_dc, pc.keep_directional);
 #if CHANNELS == 3
-    vec4 g = compensated(READ_CELL(read_g, cells_g, i));
-    vec4 b = compensated(READ_CELL(read_b, cells_b, i));
+    vec4 g = compensated(READ_CELL(read_g, cells_g, i), pc.keep_dc, pc.keep_directional);
+    vec4 b = compensated(READ_CELL(read_b, cells_b, i), pc.keep_dc, pc.keep_directional);
 #endif
     if (stores) {
         cells_r[i] = r;

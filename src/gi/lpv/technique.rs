@@ -1368,34 +1368,38 @@ impl Lpv {
     /// Blend last frame's light of `channels` into this frame's injection (ILPV), in one
     /// dispatch, where the blend changes it.
     fn record_merge(&self, rec: &mut Recorder, channels: &[usize], current: usize) -> GpuResult<()> {
-        let weights: Vec<(f32, f32)> = channels.iter().map(|&c| self.blend_weights(c)).collect();
-        if weights.iter().all(|&(carried, fresh)| carried == 0.0 && fresh == 1.0) {
+        let unchanged = channels.iter().all(|&c| self.blend_weights(c) == (0.0, 1.0));
+        if unchanged {
             return Ok(());
         }
-        let [mut previous_factor, mut current_factor] = [[0.0f32; 4]; 2];
-        let mut bindings = Vec::with_capacity(3 * channels.len());
-        for (i, (&channel, &(previous, now))) in channels.iter().zip(&weights).enumerate() {
-            (previous_factor[i], current_factor[i]) = (previous, now);
-            let pair = &self.lattices[channel];
-            bindings.extend(merge_bindings(i, &pair[current], &pair[current], &pair[1 - current]));
-        }
-        self.record_blend(rec, &bindings, previous_factor, current_factor)
+        self.record_blend(rec, channels, current, |c| {
+            (&self.lattices[c][current], self.blend_weights(c))
+        })
     }
 
-    /// The blend pass over the lattice's cells: `bindings` from [`merge_bindings`], the
-    /// factors per channel of the part.
-    fn record_blend(
-        &self,
+    /// One blend pass over the lattice's cells for `channels`: per channel `c`, `target_of(c)`
+    /// gives the lattice written and the (previous, current) factors by which lattices
+    /// 1 - `current` and `current` are summed into it.
+    fn record_blend<'s>(
+        &'s self,
         rec: &mut Recorder,
-        bindings: &[Binding<'_>],
-        previous_factor: [f32; 4],
-        current_factor: [f32; 4],
+        channels: &[usize],
+        current: usize,
+        target_of: impl Fn(usize) -> (&'s Buffer, (f32, f32)),
     ) -> GpuResult<()> {
+        let [mut previous_factor, mut current_factor] = [[0.0f32; 4]; 2];
+        let mut bindings = Vec::with_capacity(3 * channels.len());
+        for (i, &channel) in channels.iter().enumerate() {
+            let (target, factors) = target_of(channel);
+            (previous_factor[i], current_factor[i]) = factors;
+            let pair = &self.lattices[channel];
+            bindings.extend(merge_bindings(i, target, &pair[current], &pair[1 - current]));
+        }
         let cells = self.lattice.cell_count() as u32;
         rec.compute(&ComputePass {
             name: "merge",
             pipeline: &self.merge_pipeline,
-            bindings,
+            bindings: &bindings,
             push: &MergePush {
                 previous_factor,
                 current_factor,
@@ -1442,16 +1446,10 @@ impl Lpv {
         current: usize,
     ) -> GpuResult<()> {
         let alpha = self.settings.far_injection;
-        let [mut previous_factor, mut current_factor] = [[0.0f32; 4]; 2];
-        let mut bindings = Vec::with_capacity(3 * channels.len());
-        for (i, &channel) in channels.iter().enumerate() {
-            let (previous, _) = self.blend_weights(channel);
-            (previous_factor[i], current_factor[i]) = (previous * (1.0 - alpha), alpha);
-            let pair = &self.lattices[channel];
-            let acc = &self.accumulation[channel];
-            bindings.extend(merge_bindings(i, acc, &pair[current], &pair[1 - current]));
-        }
-        self.record_blend(rec, &bindings, previous_factor, current_factor)
+        self.record_blend(rec, channels, current, |c| {
+            let (previous, _) = self.blend_weights(c);
+            (&self.accumulation[c], (previous * (1.0 - alpha), alpha))
+        })
     }
 
     /// One propagation step of the colour channels `channels` (one dispatch for them all) from
