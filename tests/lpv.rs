@@ -6,6 +6,7 @@ mod common;
 use glam::{DVec3, DVec4, Vec3};
 use vkgi::gi::lpv::cpu::{self, StepParams};
 use vkgi::gi::lpv::geometry::{BlockingLobe, GeometryLattice};
+use vkgi::gi::lpv::lattice::CellOrder;
 use vkgi::gi::lpv::projected;
 use vkgi::gi::lpv::technique::{ChannelPlan, FarLattice, IlpvLookup, column_cells};
 use vkgi::gi::lpv::transfer::FaceScheme;
@@ -288,12 +289,16 @@ fn a_step_whose_result_nothing_reads_accumulates_as_the_reference() {
 
 /// The column kernels' workgroups span a lattice's bundles along x (2x2 columns a thread: 16x4
 /// for 24 cells across, 32x2 for 40; one column a thread: 32x2 for both): the same bits as the
-/// tiled kernel, whose workgroups are tiles.
+/// tiled kernel, whose workgroups are tiles, with the cells in the buffers in rows and in
+/// columns.
 #[test]
 fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
-    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
+    for (scheme, order) in [Scheme::Ilpv, Scheme::Lpv]
+        .into_iter()
+        .flat_map(|s| [CellOrder::Rows, CellOrder::Columns].map(|o| (s, o)))
+    {
         for lattice in [24, 40] {
             let results = [Kernel::Tiled, Kernel::Column, Kernel::SingleColumn].map(|kernel| {
                 let settings = LpvSettings {
@@ -302,6 +307,8 @@ fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
                     iterations: 3,
                     kernel: Some(kernel),
                     channels: Some(ChannelPlan::Fused),
+                    cell_order: Some(order),
+                    lookup_filter: Some(LookupFilter::Texels),
                     ..LpvSettings::default()
                 };
                 let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
@@ -325,13 +332,37 @@ fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
             }
             assert!(
                 tiled == column,
-                "{scheme:?} {dims}: the column kernel's bits differ"
+                "{scheme:?} {order:?} {dims}: the column kernel's bits differ"
             );
             assert!(
                 tiled == single,
-                "{scheme:?} {dims}: the single-column kernel's bits differ"
+                "{scheme:?} {order:?} {dims}: the single-column kernel's bits differ"
             );
         }
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
+/// The lattices' buffers holding their cells in rows or in columns change where each cell lies,
+/// not what is computed: the injection, the steps and the lookup give the same image bits
+/// (fixed-point injection, whose sums do not depend on the threads' order).
+#[test]
+fn cells_in_rows_and_in_columns_give_the_same_image_bits() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
+        let [rows, columns] = [CellOrder::Rows, CellOrder::Columns].map(|order| {
+            let settings = LpvSettings {
+                scheme,
+                injection: vkgi::gi::lpv::Injection::Fixed,
+                cell_order: Some(order),
+                lookup_filter: Some(LookupFilter::Texels),
+                ..ilpv(12)
+            };
+            common::render_gi(&gpu, &scene, settings, common::indirect_only(40, 30), 2)
+        });
+        assert!(common::mean(&rows) > 0.0, "{scheme:?}: no indirect light");
+        assert!(rows == columns, "{scheme:?}: rows and columns differ");
     }
     common::assert_no_validation_errors(&gpu);
 }

@@ -27,7 +27,8 @@
 layout(constant_id = LOOKUP_FIELDS_CONSTANT) const uint FIELDS = 1u;
 
 #if LOOKUP_TEXELS
-// Each field's R, G and B lattices as texels, cell (x, y, z) at (z * ny + y) * nx + x.
+#include "gi/lpv/lattice.glsl"
+// Each field's R, G and B lattices as texels, in the lattices' cell order (lpv/lattice.glsl).
 #define LATTICE_READS samplerBuffer
 #else
 // Each field's R, G and B lattices as 3-D images: the sampler's trilinear filter interpolates
@@ -61,9 +62,10 @@ mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, fl
     ivec3 n = ivec3(dims);
     ivec3 first = clamp(ivec3(base), ivec3(0), n - 1);
     ivec3 second = clamp(ivec3(base) + 1, ivec3(0), n - 1);
-    int x[2] = int[2](first.x, second.x);
-    int y[2] = int[2](first.y * n.x, second.y * n.x);
-    int z[2] = int[2](first.z * n.x * n.y, second.z * n.x * n.y);
+    ivec3 s = lattice_strides(n);
+    int x[2] = int[2](first.x * s.x, second.x * s.x);
+    int y[2] = int[2](first.y * s.y, second.y * s.y);
+    int z[2] = int[2](first.z * s.z, second.z * s.z);
     vec2 wx = vec2(low.x, high.x);
     vec2 wy = vec2(low.y, high.y);
     vec2 wz = vec2(low.z, high.z);

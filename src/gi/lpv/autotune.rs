@@ -242,7 +242,7 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
             crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | compensates result {} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
+        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | compensates result {} | cells in {:?} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
         info.name,
         info.driver,
         settings.scheme,
@@ -251,6 +251,7 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
         settings.step_results_read(),
         settings.step_applies_medium(),
         settings.steps_compensate_results(),
+        settings.cell_order_on(setup.gpu).ok(),
         column_shape()
     )
 }

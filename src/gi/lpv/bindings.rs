@@ -88,4 +88,7 @@ crate::shared_constants! {
     UPSAMPLE_NO_SURFACE: f32 = 1e30;
     // The specialisation constant of the number of fields, clear of direct lighting's.
     LOOKUP_FIELDS_CONSTANT: u32 = 8;
+    // The specialisation constant of the lattices' cell order (lpv/lattice.glsl, CellOrder),
+    // clear of the steps', the injection's and the lookups' own.
+    CELLS_IN_COLUMNS_CONSTANT: u32 = 12;
 }

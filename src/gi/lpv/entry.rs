@@ -2,6 +2,7 @@
 //! sweeps), how many frames they need to settle, and their constructors.
 
 use super::geometry::BlockingLobe;
+use super::lattice::CellOrder;
 use super::lookup::{LookupFilter, LookupResolution};
 use super::technique::{
     self as t, ChannelPlan, Extinction, FarLattice, IlpvLookup, InjectToward, Injection, Kernel, Lpv, LpvSettings,
@@ -99,6 +100,12 @@ const CHANNEL_PLAN: Setting = Setting::new(
     "auto",
     "How a propagation step carries the colour channels: auto (the faster on this device, measured with the kernel and cached), separate (a dispatch per channel: three parts, which overlap on devices with a compute queue each under --parts async) or fused (R, G and B in one dispatch, reading the geometry once); both give the same bits",
 );
+const CELL_ORDER: Setting = Setting::new(
+    "cell-order",
+    Kind::Choice(&["auto", "rows", "columns"]),
+    "auto",
+    "How the lattices' buffers hold their cells: auto (columns on a CPU device whose lookup reads texels, rows elsewhere), rows (x fastest: a GPU's neighbouring lanes read neighbouring words) or columns (z fastest: a column kernel's thread on a CPU walks consecutive lines); columns needs --lookup-filter texels; all give the same bits",
+);
 const NO_CLAMP_COMPENSATION: Setting = Setting::new(
     "no-clamp-compensation",
     Kind::Flag,
@@ -188,6 +195,7 @@ const ILPV_SETTINGS: &[Setting] = &[
     BLOCK_FIRST_STEP,
     KERNEL,
     CHANNEL_PLAN,
+    CELL_ORDER,
     NO_CLAMP_COMPENSATION,
     INJECT_OFFSET,
     INJECT_TOWARD,
@@ -209,6 +217,7 @@ const LPV_SETTINGS: &[Setting] = &[
     BLOCK_FIRST_STEP,
     KERNEL,
     CHANNEL_PLAN,
+    CELL_ORDER,
     INJECT_OFFSET,
     INJECT_TOWARD,
     INJECTION,
@@ -317,6 +326,11 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         channels: match s.has("channel-plan").then(|| s.text("channel-plan")).transpose()? {
             Some("separate") => Some(ChannelPlan::Separate),
             Some("fused") => Some(ChannelPlan::Fused),
+            _ => None,
+        },
+        cell_order: match s.has("cell-order").then(|| s.text("cell-order")).transpose()? {
+            Some("rows") => Some(CellOrder::Rows),
+            Some("columns") => Some(CellOrder::Columns),
             _ => None,
         },
         clamp_compensation: !flag("no-clamp-compensation")?,

@@ -1,6 +1,7 @@
 //! The lattice fitted to the scene: cubic cells, `cells_along_longest` cells on the longest axis
 //! of the scene's bounds, and only as many on the other axes as the bounds need (a flat scene
-//! gets a flat lattice). Cell (x, y, z) is stored at `(z * ny + y) * nx + x`.
+//! gets a flat lattice). On the CPU, cell (x, y, z) is at `(z * ny + y) * nx + x`
+//! ([`Lattice::index`]); a GPU buffer holds the cells in the lattice's [`CellOrder`].
 
 use glam::{DVec3, IVec3, UVec3, Vec3};
 
@@ -105,6 +106,110 @@ impl Lattice {
     }
 }
 
+/// How a GPU buffer of a lattice holds its cells (`gi/lpv/lattice.glsl`'s `lattice_index`,
+/// chosen per device with [`CellOrder::for_device`]). The CPU side holds rows whatever the
+/// device; the cells are reordered where they cross (uploads and read-backs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum CellOrder {
+    /// x fastest, `(z * ny + y) * nx + x`: a row along x is contiguous, so a GPU's neighbouring
+    /// lanes, which hold neighbouring x, read neighbouring words.
+    Rows,
+    /// z fastest, `(y * nx + x) * nz + z`: a column along z is contiguous, so a column kernel's
+    /// thread on a CPU walks through consecutive lines, which the cores' prefetchers follow
+    /// (rows put a column's cells a plane, 16 KiB at 32³, apart).
+    Columns,
+}
+
+impl CellOrder {
+    /// Columns where the device is a CPU and nothing copies the lattices into 3-D images (the
+    /// sampler's lookup reads images copied from the buffers row by row); rows elsewhere.
+    pub fn for_device(is_cpu: bool, copied_to_images: bool) -> CellOrder {
+        match is_cpu && !copied_to_images {
+            true => CellOrder::Columns,
+            false => CellOrder::Rows,
+        }
+    }
+
+    /// The value of `lattice.glsl`'s specialisation constant `CELLS_IN_COLUMNS`.
+    pub fn specialization(self) -> u32 {
+        u32::from(self == CellOrder::Columns)
+    }
+
+    /// A line for the profile.
+    pub fn describe(self) -> &'static str {
+        match self {
+            CellOrder::Rows => "rows (x fastest)",
+            CellOrder::Columns => "columns (z fastest: a column kernel's thread reads consecutive lines)",
+        }
+    }
+
+    /// Where cell `c` of a lattice of `dims` cells lies in a buffer of this order.
+    pub fn index(self, dims: UVec3, c: UVec3) -> usize {
+        let i = match self {
+            CellOrder::Rows => (c.z * dims.y + c.y) * dims.x + c.x,
+            CellOrder::Columns => (c.y * dims.x + c.x) * dims.z + c.z,
+        };
+        i as usize
+    }
+
+    /// `cells` (`per_cell` values a cell, in row order) in this order.
+    pub fn from_rows<T: Copy>(self, dims: UVec3, cells: &[T], per_cell: usize) -> Vec<T> {
+        self.reorder(dims, cells, per_cell, |rows, order| (order, rows))
+    }
+
+    /// `cells` (`per_cell` values a cell, in this order) in row order.
+    pub fn to_rows<T: Copy>(self, dims: UVec3, cells: &[T], per_cell: usize) -> Vec<T> {
+        self.reorder(dims, cells, per_cell, |rows, order| (rows, order))
+    }
+
+    /// `cells` moved cell by cell: `to_from(row index, this order's index)` gives the
+    /// (destination, source) cell.
+    fn reorder<T: Copy>(
+        self,
+        dims: UVec3,
+        cells: &[T],
+        per_cell: usize,
+        to_from: impl Fn(usize, usize) -> (usize, usize),
+    ) -> Vec<T> {
+        if self == CellOrder::Rows {
+            return cells.to_vec();
+        }
+        let mut out = cells.to_vec();
+        let all = CellBox {
+            min: UVec3::ZERO,
+            max: dims,
+        };
+        for (row, c) in all.cells().enumerate() {
+            let (to, from) = to_from(row, self.index(dims, c));
+            out[to * per_cell..][..per_cell].copy_from_slice(&cells[from * per_cell..][..per_cell]);
+        }
+        out
+    }
+
+    /// The cells of `region` of a lattice of `dims` as runs that lie consecutively in a buffer
+    /// of this order: each run's first cell and its cells' places among the region's
+    /// ([`CellBox::local_index`]), in buffer order. Runs that follow on from each other are
+    /// one.
+    pub fn runs(self, dims: UVec3, region: &CellBox) -> Vec<(UVec3, Vec<usize>)> {
+        let mut runs: Vec<(UVec3, Vec<usize>)> = Vec::new();
+        let mut next = usize::MAX;
+        let cells = match self {
+            CellOrder::Rows => region.cells().collect::<Vec<_>>(),
+            CellOrder::Columns => region.cells_columns_first().collect(),
+        };
+        for c in cells {
+            let at = self.index(dims, c);
+            let local = region.local_index(c).expect("a cell of the region");
+            match runs.last_mut() {
+                Some((_, run)) if at == next => run.push(local),
+                _ => runs.push((c, vec![local])),
+            }
+            next = at + 1;
+        }
+        runs
+    }
+}
+
 /// A box of cells, `min` to `max` exclusive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CellBox {
@@ -133,6 +238,14 @@ impl CellBox {
         (self.min.z..self.max.z).flat_map(move |z| {
             (self.min.y..self.max.y)
                 .flat_map(move |y| (self.min.x..self.max.x).map(move |x| UVec3::new(x, y, z)))
+        })
+    }
+
+    /// The box's cells, z fastest, then x, then y ([`CellOrder::Columns`]' order).
+    fn cells_columns_first(&self) -> impl Iterator<Item = UVec3> + '_ {
+        (self.min.y..self.max.y).flat_map(move |y| {
+            (self.min.x..self.max.x)
+                .flat_map(move |x| (self.min.z..self.max.z).map(move |z| UVec3::new(x, y, z)))
         })
     }
 
@@ -216,6 +329,77 @@ mod tests {
             max: UVec3::new(5, 1, 1),
         };
         assert_eq!(CellBox::merged(vec![b, far, near]), vec![b.union(&near), far]);
+    }
+
+    #[test]
+    fn cell_orders_place_every_cell_once_and_round_trip() {
+        let dims = UVec3::new(5, 3, 4);
+        let rows: Vec<u32> = (0..60).collect();
+        for order in [CellOrder::Rows, CellOrder::Columns] {
+            let placed = order.from_rows(dims, &rows, 1);
+            let all = CellBox {
+                min: UVec3::ZERO,
+                max: dims,
+            };
+            for (row, c) in all.cells().enumerate() {
+                assert_eq!(placed[order.index(dims, c)], rows[row], "{order:?} {c}");
+            }
+            assert_eq!(order.to_rows(dims, &placed, 1), rows);
+        }
+        // Columns: z fastest, then x, then y.
+        assert_eq!(CellOrder::Columns.index(dims, UVec3::new(0, 0, 1)), 1);
+        assert_eq!(CellOrder::Columns.index(dims, UVec3::new(1, 0, 0)), 4);
+        assert_eq!(CellOrder::Columns.index(dims, UVec3::new(0, 1, 0)), 20);
+        // Several values a cell move together.
+        let pairs: Vec<u32> = (0..120).collect();
+        let placed = CellOrder::Columns.from_rows(dims, &pairs, 2);
+        let i = CellOrder::Columns.index(dims, UVec3::new(1, 0, 0));
+        assert_eq!(placed[2 * i..2 * i + 2], [2, 3]);
+        assert_eq!(CellOrder::Columns.to_rows(dims, &placed, 2), pairs);
+    }
+
+    #[test]
+    fn a_regions_runs_are_consecutive_in_the_buffer_and_cover_it_once() {
+        let dims = UVec3::new(6, 5, 4);
+        let regions = [
+            CellBox {
+                min: UVec3::new(1, 2, 1),
+                max: UVec3::new(4, 4, 3),
+            },
+            // Whole columns: a row of them is one run.
+            CellBox {
+                min: UVec3::new(2, 1, 0),
+                max: UVec3::new(5, 2, 4),
+            },
+            CellBox {
+                min: UVec3::ZERO,
+                max: dims,
+            },
+        ];
+        for order in [CellOrder::Rows, CellOrder::Columns] {
+            for region in regions {
+                let runs = order.runs(dims, &region);
+                let mut seen = vec![false; region.count()];
+                for (first, locals) in &runs {
+                    let start = order.index(dims, *first);
+                    for (k, &local) in locals.iter().enumerate() {
+                        let cell = region.cells().nth(local).unwrap();
+                        assert_eq!(order.index(dims, cell), start + k, "{order:?}");
+                        assert!(!std::mem::replace(&mut seen[local], true));
+                    }
+                }
+                assert!(seen.iter().all(|&s| s), "{order:?} {region:?}");
+                if region.max == dims && region.min == UVec3::ZERO {
+                    assert_eq!(runs.len(), 1, "{order:?}: the whole lattice is one run");
+                }
+            }
+            let whole_columns = order.runs(dims, &regions[1]).len();
+            let expected = match order {
+                CellOrder::Rows => 4,
+                CellOrder::Columns => 1,
+            };
+            assert_eq!(whole_columns, expected, "{order:?}");
+        }
     }
 
     #[test]

@@ -23,6 +23,7 @@ use glam::Vec3;
 
 use super::bindings as ids;
 use super::cost;
+use super::lattice::CellOrder;
 use super::upsample::half_size;
 use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
@@ -184,6 +185,8 @@ pub struct LookupField<'a> {
     pub origin: Vec3,
     pub cell_size: f32,
     pub dims: [i32; 4],
+    /// How the texels hold the cells (the images hold them as a 3-D image does).
+    pub cell_order: CellOrder,
     /// Intensity per cell to radiance: the method's scale over π cell².
     pub scale: f32,
     /// How far along the normal the lookup moves, in cells.
@@ -274,6 +277,8 @@ pub struct Lookup {
     /// The same words on the CPU, to check that a draw is given the fields it was built for.
     written: FieldWords,
     fields: usize,
+    /// How the fields' texels hold their cells (a specialisation constant of the pipelines).
+    cell_order: CellOrder,
 }
 
 impl Lookup {
@@ -297,9 +302,18 @@ impl Lookup {
             ));
         }
         let texels = filter == LookupFilter::Texels;
+        let cell_order = fields[0].cell_order;
+        if fields.iter().any(|f| f.cell_order != cell_order) {
+            return Err(GpuError::Setup(
+                "the fields of one lookup must hold their cells in the same order".into(),
+            ));
+        }
         let written = field_words(fields);
         let count = fields.len();
-        let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32);
+        let own = |spec: Specialization| {
+            spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32)
+                .with_u32(ids::CELLS_IN_COLUMNS_CONSTANT, cell_order.specialization())
+        };
         let shape = DirectShape::of(scene, &scene.raster_lights());
         let (apart, lit, half) = match resolution {
             LookupResolution::Full => {
@@ -373,6 +387,7 @@ impl Lookup {
             words: gpu.upload_storage("lookup fields", bytemuck::bytes_of(&written))?,
             written,
             fields: count,
+            cell_order,
         })
     }
 
@@ -417,9 +432,10 @@ impl Lookup {
 
     /// The bindings of `fields`' lattices and of their constants.
     fn field_bindings<'a>(&'a self, fields: &[LookupField<'a>]) -> GpuResult<Vec<Binding<'a>>> {
-        if fields.len() != self.fields || field_words(fields) != self.written {
+        let same_order = fields.iter().all(|f| f.cell_order == self.cell_order);
+        if fields.len() != self.fields || field_words(fields) != self.written || !same_order {
             return Err(GpuError::Setup(format!(
-                "the lookup was built for other fields ({} of them, their places and sizes as then)",
+                "the lookup was built for other fields ({} of them, their places, sizes and cell order as then)",
                 self.fields
             )));
         }

@@ -10,7 +10,7 @@ use super::autotune;
 use super::bindings as ids;
 use super::cost::{self, StepWork, StepWrites};
 use super::geometry::{self, BlockingLobe, GeometryLattice};
-use super::lattice::{CellBox, Lattice};
+use super::lattice::{CellBox, CellOrder, Lattice};
 use super::lookup::{
     LOOKUP_BORDER, LatticeReads, Lookup, LookupField, LookupFilter, LookupResolution, lookup_passes,
 };
@@ -129,6 +129,9 @@ pub struct LpvSettings {
     /// How a step's dispatches carry the colour channels; None: the faster on this device,
     /// measured with the kernel (`--channel-plan auto`, autotune.rs).
     pub channels: Option<ChannelPlan>,
+    /// How the lattices' buffers hold their cells; None: [`CellOrder::for_device`]
+    /// (`--cell-order auto`).
+    pub cell_order: Option<CellOrder>,
     /// Rescale cells so each 26-neighbour step conserves energy despite the clamp.
     pub clamp_compensation: bool,
     pub ilpv_lookup: IlpvLookup,
@@ -271,6 +274,7 @@ impl Default for LpvSettings {
             first_step_unblocked: true,
             kernel: None,
             channels: None,
+            cell_order: None,
             clamp_compensation: true,
             ilpv_lookup: IlpvLookup::Accumulated,
             inject_offset: DEFAULT_INJECT_OFFSET,
@@ -367,6 +371,20 @@ impl LpvSettings {
         match self.scheme {
             Scheme::Ilpv if !self.last_result_read() => steps.saturating_sub(1),
             _ => steps,
+        }
+    }
+
+    /// How the lattices' buffers hold their cells on `gpu`: `cell_order`, or the device's
+    /// order for the lookup's filter ([`CellOrder::for_device`]).
+    pub fn cell_order_on(&self, gpu: &Gpu) -> Result<CellOrder, InputError> {
+        let filter = self.lookup_filter.unwrap_or_else(|| LookupFilter::for_device(gpu));
+        let copied_to_images = filter == LookupFilter::Sampler;
+        match self.cell_order {
+            Some(CellOrder::Columns) if copied_to_images => Err(InputError::new(
+                "--cell-order columns needs --lookup-filter texels (the sampler's 3-D images are copied from the lattices row by row)",
+            )),
+            Some(order) => Ok(order),
+            None => Ok(CellOrder::for_device(gpu.info.is_cpu(), copied_to_images)),
         }
     }
 
@@ -719,6 +737,8 @@ pub struct GeometryUpdate {
 pub struct Lpv {
     pub settings: LpvSettings,
     pub lattice: Lattice,
+    /// How the GPU buffers hold the lattice's cells (the device's [`CellOrder`]).
+    cell_order: CellOrder,
     pub transfer: TransferVectors,
     /// The propagation kernel that runs and how its dispatches carry the channels, and the
     /// autotune's reasons when it chose them.
@@ -901,6 +921,7 @@ impl Lpv {
             origin: self.lattice.origin,
             cell_size: cell,
             dims: self.dims(),
+            cell_order: self.cell_order,
             scale: self.lookup_scale() / (std::f32::consts::PI * cell * cell),
             offset: self.settings.lookup_offset,
         }
@@ -946,6 +967,7 @@ impl Lpv {
         }
         let lookup_filter = settings.lookup_filter.unwrap_or_else(|| LookupFilter::for_device(gpu));
         check_lookup_limits(gpu, lookup_filter, &lattice, kernel.reads_texels())?;
+        let cell_order = settings.cell_order_on(gpu)?;
         match settings.injection {
             Injection::Float if !gpu.info.shader_buffer_float32_atomic_add => anyhow::bail!(
                 "LPV injection with float atomics needs VK_EXT_shader_atomic_float, which this device lacks (--injection fixed does not)"
@@ -985,11 +1007,15 @@ impl Lpv {
         };
         let (inject_spirv, inject_spec, injection_kernel) =
             injection_kernel(gpu, settings.injection);
+        let in_cell_order = |spec: Specialization| {
+            spec.with_u32(ids::CELLS_IN_COLUMNS_CONSTANT, cell_order.specialization())
+        };
+        let inject_spec = in_cell_order(inject_spec);
         let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
         // Cells a column kernel's thread walks (unused by the other kernels).
         let column = bundle.map_or(1, |bundle| column_cells(lattice.dims.to_array(), bundle));
         let propagate_threads = propagation_threads(kernel, lattice.dims.to_array(), tile, column);
-        let mut spec = Specialization::new()
+        let mut spec = in_cell_order(Specialization::new())
             .with_u32(0, tile[0])
             .with_u32(1, tile[1])
             .with_u32(2, tile[2])
@@ -1070,7 +1096,11 @@ impl Lpv {
             storage(&format!("kept injection {}", CHANNELS[c]), cells * 16, false)
         };
         let injected = [kept_injection(0)?, kept_injection(1)?, kept_injection(2)?];
-        let geometry_f32 = geometry_cells.to_f32();
+        let geometry_f32 = cell_order.from_rows(
+            lattice.dims,
+            &geometry_cells.to_f32(),
+            geometry_words as usize,
+        );
         let neighbours: Vec<GpuNeighbour> = transfer
             .neighbours
             .iter()
@@ -1105,6 +1135,7 @@ impl Lpv {
 
         Ok(Lpv {
             lattice,
+            cell_order,
             transfer,
             kernel,
             plan,
@@ -1609,7 +1640,8 @@ impl Lpv {
     /// tools: propagate arbitrary lattices with [`Lpv::record_propagation`]).
     pub fn load_lattices(&mut self, gpu: &Gpu, cells: &[Vec<[f32; 4]>; 3]) -> GpuResult<()> {
         for (c, data) in cells.iter().enumerate() {
-            gpu.write_buffer(&self.lattices[c][0], bytemuck::cast_slice(data))?;
+            let placed = self.cell_order.from_rows(self.lattice.dims, data, 1);
+            gpu.write_buffer(&self.lattices[c][0], bytemuck::cast_slice(&placed))?;
         }
         self.result = 0;
         Ok(())
@@ -1626,7 +1658,9 @@ impl Lpv {
                 self.settings.blocking_lobe
             );
         }
-        Ok(gpu.write_buffer(&self.geometry, bytemuck::cast_slice(&geometry.to_f32()))?)
+        let words = self.settings.blocking_lobe.words_per_cell();
+        let placed = self.cell_order.from_rows(self.lattice.dims, &geometry.to_f32(), words);
+        Ok(gpu.write_buffer(&self.geometry, bytemuck::cast_slice(&placed))?)
     }
 
     /// Propagate the loaded lattices `settings.iterations` steps (no RSM, injection or blend),
@@ -1672,7 +1706,8 @@ impl Lpv {
     pub fn read_result(&self, gpu: &Gpu) -> GpuResult<[Vec<[f32; 4]>; 3]> {
         let [r, g, b] = self.result_lattices();
         let read = |buffer: &Buffer| -> GpuResult<Vec<[f32; 4]>> {
-            Ok(bytemuck::cast_slice(&gpu.read_buffer(buffer)?).to_vec())
+            let placed: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_buffer(buffer)?).to_vec();
+            Ok(self.cell_order.to_rows(self.lattice.dims, &placed, 1))
         };
         Ok([read(r)?, read(g)?, read(b)?])
     }
@@ -1691,7 +1726,9 @@ impl Lpv {
         };
         let mut hash = hash;
         for buffer in carried.into_iter().chain(looked_up) {
-            hash = crate::digest::fnv1a(gpu.read_buffer(buffer)?, hash);
+            let placed: Vec<[u8; 16]> = bytemuck::cast_slice(&gpu.read_buffer(buffer)?).to_vec();
+            let rows = self.cell_order.to_rows(self.lattice.dims, &placed, 1);
+            hash = crate::digest::fnv1a(rows.as_flattened().iter().copied(), hash);
         }
         Ok(hash)
     }
@@ -1787,20 +1824,19 @@ impl Lpv {
         });
     }
 
-    /// Queue the words of the cells of `region` (in its order) as runs of consecutive cells of
-    /// the lattice: one per row of the region, or fewer where rows span the lattice.
+    /// Queue the words of the cells of `region` (in its order) as runs of cells consecutive in
+    /// the geometry buffer: one per row (or column, in [`CellOrder::Columns`]) of the region,
+    /// or fewer where those span the lattice.
     fn queue_geometry_rows(&mut self, region: &CellBox, words: &[[f32; 4]]) {
         let k = self.geometry_words() as usize;
         let bytes_per_cell = (k * 16) as u64;
-        let row = (region.max.x - region.min.x) as usize;
-        for (r, row_words) in words.chunks(row * k).enumerate() {
-            let first = glam::UVec3::new(
-                region.min.x,
-                region.min.y + (r as u32) % (region.max.y - region.min.y),
-                region.min.z + (r as u32) / (region.max.y - region.min.y),
-            );
-            let offset = self.lattice.index(first) as u64 * bytes_per_cell;
-            let bytes: &[u8] = bytemuck::cast_slice(row_words);
+        for (first, cells) in self.cell_order.runs(self.lattice.dims, region) {
+            let offset = self.cell_order.index(self.lattice.dims, first) as u64 * bytes_per_cell;
+            let run_words: Vec<[f32; 4]> = cells
+                .iter()
+                .flat_map(|&local| words[local * k..][..k].iter().copied())
+                .collect();
+            let bytes: &[u8] = bytemuck::cast_slice(&run_words);
             match self.pending_geometry.last_mut() {
                 Some((at, run)) if *at + run.len() as u64 == offset => run.extend_from_slice(bytes),
                 _ => self.pending_geometry.push((offset, bytes.to_vec())),
@@ -1815,7 +1851,9 @@ impl Lpv {
 
     /// The geometry lattice as the GPU holds it (tests).
     pub fn read_geometry(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 4]>> {
-        Ok(bytemuck::cast_slice(&gpu.read_buffer(&self.geometry)?).to_vec())
+        let placed: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_buffer(&self.geometry)?).to_vec();
+        let words = self.settings.blocking_lobe.words_per_cell();
+        Ok(self.cell_order.to_rows(self.lattice.dims, &placed, words))
     }
 
     /// The RSM this lattice renders, if it renders one.
@@ -1991,6 +2029,7 @@ impl GiMethod for Lpv {
                 self.transfer.kappa
             ),
             format!("propagation kernel: {kernel}; channels: {plan}"),
+            format!("cells in buffers: {}", self.cell_order.describe()),
             format!("injection: {}", self.injection_kernel),
         ];
         if let Some(choice) = &self.autotune {
