@@ -364,6 +364,37 @@ fn cells_in_rows_and_in_columns_give_the_same_image_bits() {
         assert!(common::mean(&rows) > 0.0, "{scheme:?}: no indirect light");
         assert!(rows == columns, "{scheme:?}: rows and columns differ");
     }
+    // Two scales whose fields hold their cells in different orders (on a CPU device the near
+    // field's single-column kernel walks whole columns of its 24³ lattice, the far field's
+    // 5³ columns are split), read by one lookup: the bits of both in rows.
+    let two_scales = |order: Option<CellOrder>| {
+        let settings = LpvSettings {
+            injection: vkgi::gi::lpv::Injection::Fixed,
+            kernel: Some(Kernel::SingleColumn),
+            channels: Some(ChannelPlan::Fused),
+            cell_order: order,
+            lookup_filter: Some(LookupFilter::Texels),
+            ..ilpv(24)
+        };
+        let mut method = two_scale::TwoScale::new(&Setup::new(&gpu, &scene), settings, 5).unwrap();
+        let orders = [method.near.cell_order(), method.far.cell_order()];
+        let options = common::indirect_only(40, 30);
+        (
+            orders,
+            common::render_with(&gpu, &scene, &mut method, options, 2),
+        )
+    };
+    let (mixed_orders, mixed) = two_scales(None);
+    let (rows_orders, rows) = two_scales(Some(CellOrder::Rows));
+    if gpu.info.is_cpu() {
+        assert_eq!(mixed_orders, [CellOrder::Columns, CellOrder::Rows]);
+    }
+    assert_eq!(rows_orders, [CellOrder::Rows; 2]);
+    assert!(common::mean(&rows) > 0.0, "two scales: no indirect light");
+    assert!(
+        mixed == rows,
+        "two scales: the fields' orders change the image"
+    );
     common::assert_no_validation_errors(&gpu);
 }
 

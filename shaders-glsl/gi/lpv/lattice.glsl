@@ -5,14 +5,14 @@
 // devices, whose column kernels then walk consecutive lines). lattice.rs's CellOrder.
 layout(constant_id = CELLS_IN_COLUMNS_CONSTANT) const uint CELLS_IN_COLUMNS = 0u;
 
-// How far apart in a lattice's buffer neighbours along x, y and z lie.
-ivec3 lattice_strides(ivec3 dims) {
-    return CELLS_IN_COLUMNS != 0u ? ivec3(dims.z, dims.x * dims.z, 1)
-                                  : ivec3(1, dims.x, dims.x * dims.y);
+// How far apart neighbours along x, y and z lie in a buffer of a lattice of `dims` cells, in
+// columns or in rows.
+ivec3 cell_strides(ivec3 dims, bool columns) {
+    return columns ? ivec3(dims.z, dims.x * dims.z, 1) : ivec3(1, dims.x, dims.x * dims.y);
 }
 
 uint lattice_index(ivec3 c, ivec3 dims) {
-    ivec3 s = lattice_strides(dims);
+    ivec3 s = cell_strides(dims, CELLS_IN_COLUMNS != 0u);
     return uint(c.x * s.x + c.y * s.y + c.z * s.z);
 }
 

@@ -3,8 +3,8 @@
 // The vertex side of the lookup: its fields (one lattice, or ILPV's near and far lattices) as
 // src/gi/lpv/lookup.rs writes them into a buffer once, handed to every fragment as
 // LOOKUP_FIELD_WORDS flat varyings from location LOOKUP_FIELDS_LOCATION on (0 unless the
-// shader defines it): per field (origin, cell size), the lattice's cells (as floats) and
-// (scale, offset). lpv/lookup_light.glsl is the fragment side.
+// shader defines it): per field (origin, cell size), the lattice's cells and 1 where its
+// texels hold them in columns (as floats), and (scale, offset). lpv/lookup_light.glsl is the fragment side.
 #extension GL_EXT_control_flow_attributes : require
 
 #ifndef LOOKUP_FIELDS_LOCATION
@@ -13,7 +13,7 @@
 
 layout(binding = LOOKUP_FIELDS, std430) readonly buffer Fields {
     vec4 origin_cell[2];   // per field: xyz lattice origin, w cell size
-    ivec4 dims[2];
+    ivec4 dims[2];         // per field: xyz cells, w 1 where the texels hold columns
     vec4 scale_offset[2];  // x: 1 / (pi cell²) times the method's scale; y: the offset in cells
 } lookup_fields;
 

@@ -28,7 +28,8 @@ layout(constant_id = LOOKUP_FIELDS_CONSTANT) const uint FIELDS = 1u;
 
 #if LOOKUP_TEXELS
 #include "gi/lpv/lattice.glsl"
-// Each field's R, G and B lattices as texels, in the lattices' cell order (lpv/lattice.glsl).
+// Each field's R, G and B lattices as texels, in rows or in columns as the field's constants
+// say (lpv/lattice.glsl's cell_strides).
 #define LATTICE_READS samplerBuffer
 #else
 // Each field's R, G and B lattices as 3-D images: the sampler's trilinear filter interpolates
@@ -44,15 +45,16 @@ layout(binding = LOOKUP_FAR_LATTICE_G) uniform LATTICE_READS far_lattice_g;
 layout(binding = LOOKUP_FAR_LATTICE_B) uniform LATTICE_READS far_lattice_b;
 
 // The fields' constants (lpv/lookup_fields.glsl), the same for every fragment: per field the
-// corner of what it reads (the images' border included) and the cell size, its cells, and
-// (scale, offset).
+// corner of what it reads (the images' border included) and the cell size, its cells and
+// whether its texels hold them in columns, and (scale, offset).
 layout(location = LOOKUP_FIELDS_LOCATION) flat in vec4 fields[LOOKUP_FIELD_WORDS];
 
 #if LOOKUP_TEXELS
 // The trilinear interpolation of the lattices `r`, `g` and `b` of `dims` cells of size `cell` at
-// `d` from their corner; cells outside the lattice count as empty (their weight zero, their
-// index clamped inside).
-mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, float cell, vec3 dims) {
+// `d` from their corner, their cells in columns (z fastest) or rows; cells outside the lattice
+// count as empty (their weight zero, their index clamped inside).
+mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, float cell, vec3 dims,
+                   bool columns) {
     // Cell c's centre lies at u = c.
     vec3 u = d / cell - 0.5;
     vec3 base = floor(u);
@@ -62,7 +64,7 @@ mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, fl
     ivec3 n = ivec3(dims);
     ivec3 first = clamp(ivec3(base), ivec3(0), n - 1);
     ivec3 second = clamp(ivec3(base) + 1, ivec3(0), n - 1);
-    ivec3 s = lattice_strides(n);
+    ivec3 s = cell_strides(n, columns);
     int x[2] = int[2](first.x * s.x, second.x * s.x);
     int y[2] = int[2](first.y * s.y, second.y * s.y);
     int z[2] = int[2](first.z * s.z, second.z * s.z);
@@ -85,8 +87,9 @@ mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, fl
 }
 #else
 // The sampler's trilinear filter of the images `r`, `g` and `b` of `dims` texels of size `cell`
-// at `d` from their corner.
-mat3x4 interpolate(sampler3D r, sampler3D g, sampler3D b, vec3 d, float cell, vec3 dims) {
+// at `d` from their corner (images hold rows: `columns` is false).
+mat3x4 interpolate(sampler3D r, sampler3D g, sampler3D b, vec3 d, float cell, vec3 dims,
+                   bool columns) {
     // Texel c's centre lies at texture coordinate (c + 0.5) / dims.
     vec3 t = d / (cell * dims);
     return mat3x4(textureLod(r, t, 0.0), textureLod(g, t, 0.0), textureLod(b, t, 0.0));
@@ -98,9 +101,10 @@ vec3 field_light(int f, LATTICE_READS r, LATTICE_READS g, LATTICE_READS b, vec3 
                  vec4 lobe) {
     vec4 origin_cell = fields[3 * f];
     vec3 dims = fields[3 * f + 1].xyz;
+    bool columns = fields[3 * f + 1].w != 0.0;
     vec4 scale_offset = fields[3 * f + 2];
     vec3 p = position + n * (scale_offset.y * origin_cell.w);
-    mat3x4 sh = interpolate(r, g, b, p - origin_cell.xyz, origin_cell.w, dims);
+    mat3x4 sh = interpolate(r, g, b, p - origin_cell.xyz, origin_cell.w, dims, columns);
     vec3 incident = vec3(dot(sh[0], lobe), dot(sh[1], lobe), dot(sh[2], lobe));
     return max(incident, vec3(0.0));
 }

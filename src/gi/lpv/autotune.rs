@@ -46,7 +46,7 @@ const STEPS: u32 = 2;
 /// How the cached timings were taken, in the cache's key: entries timed otherwise (per step
 /// given, where a lattice records fewer; the column kernel in workgroups of 8x8 whatever the
 /// lattice; runs not warmed by one of their own) are measured again.
-const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own";
+const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own, cells in columns where a CPU's kernel walks whole columns";
 
 /// A kernel and plan the autotune measured, and its time.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -242,7 +242,7 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
             crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | compensates result {} | cells in {:?} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
+        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | compensates result {} | cell order {:?} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
         info.name,
         info.driver,
         settings.scheme,
@@ -251,7 +251,7 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
         settings.step_results_read(),
         settings.step_applies_medium(),
         settings.steps_compensate_results(),
-        settings.cell_order_on(setup.gpu).ok(),
+        settings.cell_order,
         column_shape()
     )
 }

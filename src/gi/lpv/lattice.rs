@@ -107,8 +107,8 @@ impl Lattice {
 }
 
 /// How a GPU buffer of a lattice holds its cells (`gi/lpv/lattice.glsl`'s `lattice_index`,
-/// chosen per device with [`CellOrder::for_device`]). The CPU side holds rows whatever the
-/// device; the cells are reordered where they cross (uploads and read-backs).
+/// chosen per lattice with [`CellOrder::for_step`]). The CPU side holds rows whatever the
+/// buffers hold; the cells are reordered where they cross (uploads and read-backs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 pub enum CellOrder {
     /// x fastest, `(z * ny + y) * nx + x`: a row along x is contiguous, so a GPU's neighbouring
@@ -121,10 +121,13 @@ pub enum CellOrder {
 }
 
 impl CellOrder {
-    /// Columns where the device is a CPU and nothing copies the lattices into 3-D images (the
-    /// sampler's lookup reads images copied from the buffers row by row); rows elsewhere.
-    pub fn for_device(is_cpu: bool, copied_to_images: bool) -> CellOrder {
-        match is_cpu && !copied_to_images {
+    /// Columns where a CPU device's step walks whole columns (each thread of a column kernel
+    /// its whole column) and nothing copies the lattices into 3-D images (the sampler's lookup
+    /// reads images copied from the buffers row by row); rows elsewhere. On lavapipe columns
+    /// took a fifth off the whole-column steps and made the split ones (the 2x2 bundles at
+    /// 32³, whose threads walk half a column) up to a fifth slower (docs/performance.md).
+    pub fn for_step(is_cpu: bool, whole_columns: bool, copied_to_images: bool) -> CellOrder {
+        match is_cpu && whole_columns && !copied_to_images {
             true => CellOrder::Columns,
             false => CellOrder::Rows,
         }
@@ -329,6 +332,19 @@ mod tests {
             max: UVec3::new(5, 1, 1),
         };
         assert_eq!(CellBox::merged(vec![b, far, near]), vec![b.union(&near), far]);
+    }
+
+    #[test]
+    fn columns_only_where_a_cpu_walks_whole_columns_and_no_images_are_copied() {
+        for is_cpu in [false, true] {
+            for whole_columns in [false, true] {
+                for copied_to_images in [false, true] {
+                    let order = CellOrder::for_step(is_cpu, whole_columns, copied_to_images);
+                    let columns = is_cpu && whole_columns && !copied_to_images;
+                    assert_eq!(order == CellOrder::Columns, columns);
+                }
+            }
+        }
     }
 
     #[test]

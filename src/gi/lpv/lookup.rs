@@ -185,7 +185,8 @@ pub struct LookupField<'a> {
     pub origin: Vec3,
     pub cell_size: f32,
     pub dims: [i32; 4],
-    /// How the texels hold the cells (the images hold them as a 3-D image does).
+    /// How the lattice buffers hold the cells (the texels' order; images are copied from
+    /// buffers of rows).
     pub cell_order: CellOrder,
     /// Intensity per cell to radiance: the method's scale over π cell².
     pub scale: f32,
@@ -202,11 +203,12 @@ impl LookupField<'_> {
         [origin.x, origin.y, origin.z, self.cell_size]
     }
 
-    /// The cells of what is read (the border included).
+    /// The cells of what is read (the border included), and 1 where the texels hold them in
+    /// columns (`lpv/lattice.glsl`'s `cell_strides`).
     fn read_dims(&self) -> [i32; 4] {
         let border = self.lattices.border() as i32;
         let [x, y, z, _] = self.dims.map(|d| d + 2 * border);
-        [x, y, z, 0]
+        [x, y, z, self.cell_order.specialization() as i32]
     }
 }
 
@@ -277,8 +279,6 @@ pub struct Lookup {
     /// The same words on the CPU, to check that a draw is given the fields it was built for.
     written: FieldWords,
     fields: usize,
-    /// How the fields' texels hold their cells (a specialisation constant of the pipelines).
-    cell_order: CellOrder,
 }
 
 impl Lookup {
@@ -302,18 +302,15 @@ impl Lookup {
             ));
         }
         let texels = filter == LookupFilter::Texels;
-        let cell_order = fields[0].cell_order;
-        if fields.iter().any(|f| f.cell_order != cell_order) {
+        let columns = |f: &LookupField| f.cell_order == CellOrder::Columns;
+        if !texels && fields.iter().any(columns) {
             return Err(GpuError::Setup(
-                "the fields of one lookup must hold their cells in the same order".into(),
+                "the sampler's images are copied from lattices of rows, not of columns".into(),
             ));
         }
         let written = field_words(fields);
         let count = fields.len();
-        let own = |spec: Specialization| {
-            spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32)
-                .with_u32(ids::CELLS_IN_COLUMNS_CONSTANT, cell_order.specialization())
-        };
+        let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32);
         let shape = DirectShape::of(scene, &scene.raster_lights());
         let (apart, lit, half) = match resolution {
             LookupResolution::Full => {
@@ -387,7 +384,6 @@ impl Lookup {
             words: gpu.upload_storage("lookup fields", bytemuck::bytes_of(&written))?,
             written,
             fields: count,
-            cell_order,
         })
     }
 
@@ -432,10 +428,9 @@ impl Lookup {
 
     /// The bindings of `fields`' lattices and of their constants.
     fn field_bindings<'a>(&'a self, fields: &[LookupField<'a>]) -> GpuResult<Vec<Binding<'a>>> {
-        let same_order = fields.iter().all(|f| f.cell_order == self.cell_order);
-        if fields.len() != self.fields || field_words(fields) != self.written || !same_order {
+        if fields.len() != self.fields || field_words(fields) != self.written {
             return Err(GpuError::Setup(format!(
-                "the lookup was built for other fields ({} of them, their places, sizes and cell order as then)",
+                "the lookup was built for other fields ({} of them, their places, sizes and cell orders as then)",
                 self.fields
             )));
         }

@@ -129,8 +129,8 @@ pub struct LpvSettings {
     /// How a step's dispatches carry the colour channels; None: the faster on this device,
     /// measured with the kernel (`--channel-plan auto`, autotune.rs).
     pub channels: Option<ChannelPlan>,
-    /// How the lattices' buffers hold their cells; None: [`CellOrder::for_device`]
-    /// (`--cell-order auto`).
+    /// How the lattices' buffers hold their cells; None: [`CellOrder::for_step`] of the
+    /// lattice's kernel (`--cell-order auto`).
     pub cell_order: Option<CellOrder>,
     /// Rescale cells so each 26-neighbour step conserves energy despite the clamp.
     pub clamp_compensation: bool,
@@ -374,17 +374,21 @@ impl LpvSettings {
         }
     }
 
-    /// How the lattices' buffers hold their cells on `gpu`: `cell_order`, or the device's
-    /// order for the lookup's filter ([`CellOrder::for_device`]).
-    pub fn cell_order_on(&self, gpu: &Gpu) -> Result<CellOrder, InputError> {
-        let filter = self.lookup_filter.unwrap_or_else(|| LookupFilter::for_device(gpu));
+    /// How the lattices' buffers hold their cells on `gpu`, whose step walks whole columns or
+    /// not, read with `filter`: `cell_order`, or [`CellOrder::for_step`].
+    fn cell_order_on(
+        &self,
+        gpu: &Gpu,
+        whole_columns: bool,
+        filter: LookupFilter,
+    ) -> Result<CellOrder, InputError> {
         let copied_to_images = filter == LookupFilter::Sampler;
         match self.cell_order {
             Some(CellOrder::Columns) if copied_to_images => Err(InputError::new(
                 "--cell-order columns needs --lookup-filter texels (the sampler's 3-D images are copied from the lattices row by row)",
             )),
             Some(order) => Ok(order),
-            None => Ok(CellOrder::for_device(gpu.info.is_cpu(), copied_to_images)),
+            None => Ok(CellOrder::for_step(gpu.info.is_cpu(), whole_columns, copied_to_images)),
         }
     }
 
@@ -737,7 +741,7 @@ pub struct GeometryUpdate {
 pub struct Lpv {
     pub settings: LpvSettings,
     pub lattice: Lattice,
-    /// How the GPU buffers hold the lattice's cells (the device's [`CellOrder`]).
+    /// How the GPU buffers hold the lattice's cells ([`CellOrder::for_step`] unless pinned).
     cell_order: CellOrder,
     pub transfer: TransferVectors,
     /// The propagation kernel that runs and how its dispatches carry the channels, and the
@@ -967,7 +971,6 @@ impl Lpv {
         }
         let lookup_filter = settings.lookup_filter.unwrap_or_else(|| LookupFilter::for_device(gpu));
         check_lookup_limits(gpu, lookup_filter, &lattice, kernel.reads_texels())?;
-        let cell_order = settings.cell_order_on(gpu)?;
         match settings.injection {
             Injection::Float if !gpu.info.shader_buffer_float32_atomic_add => anyhow::bail!(
                 "LPV injection with float atomics needs VK_EXT_shader_atomic_float, which this device lacks (--injection fixed does not)"
@@ -1007,13 +1010,15 @@ impl Lpv {
         };
         let (inject_spirv, inject_spec, injection_kernel) =
             injection_kernel(gpu, settings.injection);
+        // Cells a column kernel's thread walks (unused by the other kernels).
+        let column = bundle.map_or(1, |bundle| column_cells(lattice.dims.to_array(), bundle));
+        let whole_columns = bundle.is_some() && column >= lattice.dims.z;
+        let cell_order = settings.cell_order_on(gpu, whole_columns, lookup_filter)?;
         let in_cell_order = |spec: Specialization| {
             spec.with_u32(ids::CELLS_IN_COLUMNS_CONSTANT, cell_order.specialization())
         };
         let inject_spec = in_cell_order(inject_spec);
         let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
-        // Cells a column kernel's thread walks (unused by the other kernels).
-        let column = bundle.map_or(1, |bundle| column_cells(lattice.dims.to_array(), bundle));
         let propagate_threads = propagation_threads(kernel, lattice.dims.to_array(), tile, column);
         let mut spec = in_cell_order(Specialization::new())
             .with_u32(0, tile[0])
@@ -1029,7 +1034,6 @@ impl Lpv {
         match (kernel, bundle) {
             (Kernel::Tiled, _) => spec = spec.with_u32(3, Z_PAD),
             (_, Some(bundle)) => {
-                let whole_columns = column >= lattice.dims.z;
                 spec = spec
                     .with_u32(5, column)
                     .with_u32(6, bundle)
@@ -1842,6 +1846,11 @@ impl Lpv {
                 _ => self.pending_geometry.push((offset, bytes.to_vec())),
             }
         }
+    }
+
+    /// How the GPU buffers hold the lattice's cells.
+    pub fn cell_order(&self) -> CellOrder {
+        self.cell_order
     }
 
     /// The last update of the geometry lattice after geometry moved.
