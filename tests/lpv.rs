@@ -1164,23 +1164,32 @@ fn the_gpu_geometry_lattices_follow_a_moved_block_exactly() {
     let light = Vec3::new(0.16, 0.35, 0.14);
     let away = Vec3::new(0.24, 0.09, 0.26);
     let mut scene = cornell_with_moving_cube(light, 0.2, vec![(0, Vec3::ZERO), (1, away)]);
-    for lobe in [
-        BlockingLobe::TwoSided,
-        BlockingLobe::Projected,
-        BlockingLobe::Oriented,
-        BlockingLobe::Visibility,
+    // The rebuilt cells go up as runs of the buffers' order: rows along x, columns along z.
+    for (lobe, order) in [
+        (BlockingLobe::TwoSided, CellOrder::Rows),
+        (BlockingLobe::TwoSided, CellOrder::Columns),
+        (BlockingLobe::Projected, CellOrder::Rows),
+        (BlockingLobe::Oriented, CellOrder::Columns),
+        (BlockingLobe::Visibility, CellOrder::Rows),
+        (BlockingLobe::Visibility, CellOrder::Columns),
     ] {
         scene.pose(0);
         let settings = LpvSettings {
             lattice: 16,
             rsm: 32,
             blocking_lobe: lobe,
+            cell_order: Some(order),
+            lookup_filter: Some(LookupFilter::Texels),
             ..LpvSettings::default()
         };
         let options = common::indirect_only(16, 12);
         let mut frame = vkgi::render::Frame::new(&gpu, &scene, options).unwrap();
         let setup = Setup::new(&gpu, &scene);
         let mut method = two_scale::TwoScale::new(&setup, settings.clone(), 5).unwrap();
+        assert_eq!(
+            [method.near.cell_order(), method.far.cell_order()],
+            [order; 2]
+        );
         let mut ring = vkgi::gpu::frames::FrameRing::new(&gpu, 2).unwrap();
         frame.submit(&gpu, &mut ring, Some(&mut method)).unwrap();
         // Move the cube while the first frame may still be in flight.
@@ -1199,11 +1208,11 @@ fn the_gpu_geometry_lattices_follow_a_moved_block_exactly() {
             (&method.far, &fresh.far, "far"),
         ] {
             let update = followed.geometry_update().unwrap();
-            eprintln!("{lobe:?}, {field} field: {update:?}");
+            eprintln!("{lobe:?} {order:?}, {field} field: {update:?}");
             assert_eq!(
                 followed.read_geometry(&gpu).unwrap(),
                 built.read_geometry(&gpu).unwrap(),
-                "{lobe:?}, {field} field"
+                "{lobe:?} {order:?}, {field} field"
             );
             if lobe == BlockingLobe::Oriented {
                 assert_eq!(update.rebuilt, update.cells);
