@@ -2,8 +2,10 @@
 # Issue 18's item 4 on a discrete GPU, in one run: `vkgi profile` of LPV and ILPV (one lattice,
 # 8 steps a frame, as seed 000's Table 4.2 measured them) for every kernel (tiled, naive,
 # column, single-column) and channel plan (a dispatch per channel, sequential or one compute
-# queue each; the channels fused), each lattice size in its own process (a size the device
-# cannot hold fails alone), then one table of them (benches/gpu/item4_table.py). Not part of
+# queue each; the channels fused), and the column kernels fused with the lattices' cells in
+# columns (`--cell-order columns`, which a GPU does not choose itself: its lanes hold
+# neighbouring x), each lattice size in its own process (a size the device cannot hold fails
+# alone), then one table of them (benches/gpu/item4_table.py). Not part of
 # CI or `cargo bench`: it needs no build tools, only a built vkgi, so it can run where the GPU is.
 #   bash benches/gpu/item4.sh [VKGI] [OUT]        (defaults: target/release/vkgi, item4)
 # Environment: LATTICES (32 64 128 256), SIZE (1920x1080), FRAMES (5), DEVICE (vkgi's
@@ -24,21 +26,33 @@ for method in lpv ilpv; do
   # ILPV on one lattice, as the thesis measured it (its default is two scales).
   one_lattice=()
   if [ "$method" = ilpv ]; then one_lattice=(--far-lattice off); fi
+  variants=()
   for kernel in tiled naive column single-column; do
     for plan in separate-sequential separate-async fused-sequential; do
-      for lattice in $lattices; do
-        name="$method-$kernel-$plan-$lattice"
-        echo "== $name" >&2
-        if "$vkgi" profile --method "$method" --lattice "$lattice" --iterations 8 \
-          ${one_lattice[@]+"${one_lattice[@]}"} --kernel "$kernel" \
-          --channel-plan "${plan%-*}" --parts "${plan#*-}" --size "$size" \
-          --frames "$frames" --warmup 1 ${device[@]+"${device[@]}"} \
-          --json "$out/$name.json" > "$out/$name.txt" 2>&1; then
-          written+=("$out/$name.json")
-        else
-          echo "failed: $name (see $out/$name.txt)" >&2
-        fi
-      done
+      variants+=("$kernel $plan auto")
+    done
+  done
+  for kernel in column single-column; do variants+=("$kernel fused-sequential columns"); done
+  for variant in "${variants[@]}"; do
+    read -r kernel plan order <<< "$variant"
+    cells=()
+    label="$kernel"
+    if [ "$order" = columns ]; then
+      cells=(--cell-order columns --lookup-filter texels)
+      label="$kernel-columns"
+    fi
+    for lattice in $lattices; do
+      name="$method-$label-$plan-$lattice"
+      echo "== $name" >&2
+      if "$vkgi" profile --method "$method" --lattice "$lattice" --iterations 8 \
+        ${one_lattice[@]+"${one_lattice[@]}"} --kernel "$kernel" \
+        --channel-plan "${plan%-*}" --parts "${plan#*-}" ${cells[@]+"${cells[@]}"} \
+        --size "$size" --frames "$frames" --warmup 1 ${device[@]+"${device[@]}"} \
+        --json "$out/$name.json" > "$out/$name.txt" 2>&1; then
+        written+=("$out/$name.json")
+      else
+        echo "failed: $name (see $out/$name.txt)" >&2
+      fi
     done
   done
 done
