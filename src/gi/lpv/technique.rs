@@ -1706,7 +1706,7 @@ impl Lpv {
         })
     }
 
-    /// The lattices the lookup would read, per channel.
+    /// The lattices the lookup would read, per channel, in rows whatever the buffers' order.
     pub fn read_result(&self, gpu: &Gpu) -> GpuResult<[Vec<[f32; 4]>; 3]> {
         let [r, g, b] = self.result_lattices();
         let read = |buffer: &Buffer| -> GpuResult<Vec<[f32; 4]>> {
@@ -1718,7 +1718,8 @@ impl Lpv {
 
     /// A digest of the lattices carried to the next frame and of those the lookup reads (each
     /// read once: ILPV's final lookup reads the carried ones). Where no step writes its result
-    /// (`LpvSettings::step_results_read`), the accumulation alone.
+    /// (`LpvSettings::step_results_read`), the accumulation alone. The cells are hashed in
+    /// rows, so that lattices in columns and in rows digest alike.
     pub fn digest(&self, gpu: &Gpu, hash: u64) -> GpuResult<u64> {
         let carried = match self.settings.step_results_read() {
             true => [0, 1, 2].map(|c| &self.lattices[c][self.result]).to_vec(),
@@ -1858,7 +1859,7 @@ impl Lpv {
         self.geometry_update
     }
 
-    /// The geometry lattice as the GPU holds it (tests).
+    /// The geometry lattice the GPU holds, in rows whatever its buffer's order (tests).
     pub fn read_geometry(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 4]>> {
         let placed: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_buffer(&self.geometry)?).to_vec();
         let words = self.settings.blocking_lobe.words_per_cell();
