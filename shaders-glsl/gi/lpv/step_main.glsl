@@ -67,17 +67,20 @@ void main() {
     // The bundle's first column, and the first cell of its piece of the column.
     ivec3 first = ivec3(gl_GlobalInvocationID.xy * BUNDLE, gl_GlobalInvocationID.z * COLUMN);
     if (!lattice_inside(first, pc.dims.xyz)) return;
+    // The own columns below and at the first cell (below a whole column: nothing).
     if (WHOLE_COLUMNS != 0u) {
         clear_plane(-1);
     } else {
-        load_plane(first, -1);
+        load_cells(first, -1, true, false);
     }
-    load_plane(first, 0);
+    load_cells(first, 0, true, false);
     // Every thread of a workgroup shares its z range, so the loop ends for all at once.
     for (uint k = 0u; k < COLUMN; ++k) {
         ivec3 origin = first + ivec3(0, 0, k);
         if (origin.z >= pc.dims.z) break;
-        load_plane(origin, 1);
+        // This plane around the own columns, and the own columns above.
+        load_cells(origin, 0, false, true);
+        load_cells(origin, 1, true, false);
         [[unroll]] for (int y = 0; y < BUNDLE; ++y) {
             [[unroll]] for (int x = 0; x < BUNDLE; ++x) {
                 bundle_member = ivec2(x, y);

@@ -4,9 +4,9 @@
 // LPV_TILED and LPV_COLUMN (one of them 1, or neither for the naive kernel), COLUMN_FACES_ONLY
 // (1 when the step reads only face neighbours) and what cells.glsl asks for, and a
 // push-constant block `pc` with `ivec4 dims`; step_main.glsl walks the cells (tiled:
-// prepare_sources() first, in uniform control flow; column: load_plane() along the column, and
-// for the block advance_column()). Each reader gives source_light(cell, offset, channel) and
-// source_geometry(cell, offset).
+// prepare_sources() first, in uniform control flow; column: load_plane() or load_cells() along
+// the column, and for the block advance_column()). Each reader gives source_light(cell, offset,
+// channel) and source_geometry(cell, offset).
 //
 // Tiled: the workgroup (one tile of cells) loads its cells plus a one-cell halo of light and
 // geometry into shared memory, zero outside the lattice. Shared memory is laid out [x][y][z]
@@ -15,6 +15,9 @@
 // only z, removed the bank conflicts).
 #ifndef COLUMN_STREAM
 #define COLUMN_STREAM 0
+#endif
+#if LPV_COLUMN && !COLUMN_STREAM && !COLUMN_FACES_ONLY
+#error "the column block keeps only its own columns off the current plane: face neighbours only"
 #endif
 #include "gi/lpv/lattice.glsl"
 #include "gi/lpv/cells.glsl"
@@ -66,8 +69,10 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
 // neighbouring columns and loads each plane of (BUNDLE + 2)² cells around them once for the
 // whole bundle (ILPV: 9 cells a column for one column, 4 for a bundle of 2x2) into registers
 // (slots indexed by constant offsets once the loops are unrolled). Two walks (step_main.glsl):
-// * the block (COLUMN_STREAM 0: LPV) walks up keeping three planes, from which each cell of the
-//   bundle gathers; the block then moves one plane (two planes copied a cell);
+// * the block (COLUMN_STREAM 0: LPV, whose step reads face neighbours only) walks up keeping
+//   the bundle's own columns in the planes below, at and above it and the rest of the current
+//   plane's square (without its corners), read anew for each plane; each cell of the bundle
+//   gathers from it, and the own columns then move one plane (two cells copied a column);
 // * the stream (COLUMN_STREAM 1: ILPV, whose gather comes in plane groups, gather_group) walks
 //   down keeping one plane: each plane adds its group to the bundle's cells at z + 1, z and
 //   z - 1, whose partial sums the thread carries, and nothing else is copied from plane to
@@ -97,17 +102,24 @@ uint block_slot(ivec3 offset) {
     return uint(plane * BLOCK_PLANE + (offset.y + 1) * BLOCK_SIDE + offset.x + 1);
 }
 
-// The plane z = origin.z + dz around the bundle whose first column is at `origin` into its
-// slots (zero outside); with COLUMN_FACES_ONLY only the cells a face-neighbour step reads (the
-// square without its 4 corners).
-void load_plane(ivec3 origin, int dz) {
+// Whether the cell at (dx, dy) from the bundle's first column is one of the bundle's own.
+bool own_column(int dx, int dy) {
+    return dx >= 0 && dx < BUNDLE && dy >= 0 && dy < BUNDLE;
+}
+
+// Of the plane z = origin.z + dz around the bundle whose first column is at `origin`, the
+// bundle's own columns (`own`) and the cells around them (`around`) into their slots (zero
+// outside); with COLUMN_FACES_ONLY never the square's 4 corners, which a face-neighbour step
+// does not read. Slots not asked for keep what they hold.
+void load_cells(ivec3 origin, int dz, bool own, bool around) {
     [[unroll]] for (int dy = -1; dy <= BUNDLE; ++dy) {
         [[unroll]] for (int dx = -1; dx <= BUNDLE; ++dx) {
-            // A constant once unrolled: unread corners are left zero and never loaded.
+            // Constants once unrolled: the cells not wanted are neither loaded nor written.
             bool corner = (dx == -1 || dx == BUNDLE) && (dy == -1 || dy == BUNDLE);
-            bool wanted = COLUMN_FACES_ONLY == 0 || !corner;
+            bool asked = own_column(dx, dy) ? own : around;
+            if (!asked || (COLUMN_FACES_ONLY != 0 && corner)) continue;
             ivec3 c = origin + ivec3(dx, dy, dz);
-            bool inside = wanted && lattice_inside(c, pc.dims.xyz);
+            bool inside = lattice_inside(c, pc.dims.xyz);
             uint k = inside ? lattice_index(c, pc.dims.xyz) : 0u;
             uint slot = block_slot(ivec3(dx, dy, dz));
             [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
@@ -116,6 +128,11 @@ void load_plane(ivec3 origin, int dz) {
             column_geometry[slot] = stored_cell_geometry(k, inside);
         }
     }
+}
+
+// The whole plane dz around the bundle (the stream's).
+void load_plane(ivec3 origin, int dz) {
+    load_cells(origin, dz, true, true);
 }
 
 // The plane dz of the block, zero: the block's plane below a whole column.
@@ -140,13 +157,20 @@ GeometryWords own_geometry(ivec3 cell) {
     return stored_cell_geometry(inside ? lattice_index(cell, pc.dims.xyz) : 0u, inside);
 }
 #else
-// Move the block one cell along +z: the planes at dz = 0 and 1 become those at -1 and 0.
+// Move the block one cell along +z: the own columns' cells at dz = 0 and 1 become those at -1
+// and 0 (the rest of the new current plane is read for it).
 void advance_column() {
-    [[unroll]] for (int slot = 0; slot < 2 * BLOCK_PLANE; ++slot) {
-        [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
-            column_light[slot * CHANNELS + c] = column_light[(slot + BLOCK_PLANE) * CHANNELS + c];
+    [[unroll]] for (int dz = 0; dz <= 1; ++dz) {
+        [[unroll]] for (int dy = 0; dy < BUNDLE; ++dy) {
+            [[unroll]] for (int dx = 0; dx < BUNDLE; ++dx) {
+                uint to = block_slot(ivec3(dx, dy, dz - 1));
+                uint from = block_slot(ivec3(dx, dy, dz));
+                [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
+                    column_light[to * CHANNELS + c] = column_light[from * CHANNELS + c];
+                }
+                column_geometry[to] = column_geometry[from];
+            }
         }
-        column_geometry[slot] = column_geometry[slot + BLOCK_PLANE];
     }
 }
 #endif
