@@ -16,7 +16,8 @@
 //! The first lattice of its kind (scheme, lattice size, geometry words, pinned settings) a
 //! process builds on a device times a short propagation of every colour channel with each
 //! candidate (kernel and plan; alternating, each measured run right after an unmeasured one of
-//! its own, the fastest of three) and takes the fastest; a candidate that cannot be built there
+//! its own: one run each, then [`RUNS`] - 1 more of the candidates within [`CONTENDING`] of the
+//! fastest, each timed by its fastest run) and takes the fastest; a candidate that cannot be built there
 //! (no tile fits the shared memory, say) is none. The measurement records the three channels in one command buffer on one queue, so it
 //! does not see separate channels overlap on a device with a compute queue each (pin
 //! `--channel-plan separate` there to run them async). The choice is kept for the process and in
@@ -38,15 +39,19 @@ use super::technique::{
 };
 use crate::gi::registry::Setup;
 
-/// Measured propagations per kernel, each right after an unmeasured one of the same kernel;
-/// the fastest counts.
-const RUNS: usize = 3;
+/// Measured propagations of each contending candidate, each right after an unmeasured one of
+/// the same candidate; the fastest counts. Every candidate runs once; the rest go to those that
+/// contend, so that a slower minute of the machine (which only adds time) must last through
+/// every run of the fastest to turn the choice.
+const RUNS: usize = 6;
+/// How much slower than the fastest a candidate's first run may be for it to run again.
+const CONTENDING: f64 = 1.5;
 /// Steps of each measured propagation.
 const STEPS: u32 = 2;
 /// How the cached timings were taken, in the cache's key: entries timed otherwise (per step
 /// given, where a lattice records fewer; the column kernel in workgroups of 8x8 whatever the
 /// lattice; runs not warmed by one of their own) are measured again.
-const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own, cells in columns where a CPU's kernel walks whole columns";
+const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own, cells in columns where a CPU's kernel walks whole columns, fastest of 6 runs of the candidates within 1.5x after one";
 
 /// A kernel and plan the autotune measured, and its time.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -186,8 +191,12 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     // Each measured run follows an unmeasured one of the same candidate, so that it finds its
     // lattices in the caches as a frame's steps do, not evicted by the other candidates' runs
     // (which, alternating six candidates on lavapipe, ranked LPV's 32³ kernels the wrong way).
-    for _ in 0..RUNS {
+    for run in 0..RUNS {
+        let fastest = built.iter().map(|(t, _)| t.ms).fold(f64::INFINITY, f64::min);
         for (timing, lpv) in &mut built {
+            if run > 0 && !contends(timing.ms, fastest) {
+                continue;
+            }
             setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
             let start = Instant::now();
             setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
@@ -210,6 +219,11 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
         lattice: settings.lattice,
         source: "measured now".into(),
     })
+}
+
+/// Whether a candidate timed at `ms` so far runs again against the fastest so far.
+fn contends(ms: f64, fastest: f64) -> bool {
+    ms <= CONTENDING * fastest
 }
 
 /// The steps a candidate's probe is given: [`STEPS`], or one more or fewer where that makes its
@@ -295,6 +309,14 @@ fn write_cache(path: &Path, key: &str, choice: &Choice) -> std::io::Result<()> {
 mod tests {
     use super::*;
     use crate::gi::lpv::technique::Scheme;
+
+    #[test]
+    fn candidates_within_one_and_a_half_times_the_fastest_run_again() {
+        assert!(contends(1.0, 1.0));
+        assert!(contends(1.5, 1.0));
+        assert!(!contends(1.51, 1.0));
+        assert!(!contends(8.4, 1.4));
+    }
 
     #[test]
     fn the_probe_runs_the_kernel_its_lattice_runs() {
