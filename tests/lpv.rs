@@ -355,6 +355,8 @@ fn cells_in_rows_and_in_columns_give_the_same_image_bits() {
             let settings = LpvSettings {
                 scheme,
                 injection: vkgi::gi::lpv::Injection::Fixed,
+                kernel: Some(Kernel::SingleColumn),
+                channels: Some(ChannelPlan::Fused),
                 cell_order: Some(order),
                 lookup_filter: Some(LookupFilter::Texels),
                 ..ilpv(12)

@@ -4,7 +4,8 @@
 # column, single-column) and channel plan (a dispatch per channel, sequential or one compute
 # queue each; the channels fused), and the column kernels fused with the lattices' cells in
 # columns (`--cell-order columns`, which a GPU does not choose itself: its lanes hold
-# neighbouring x), each lattice size in its own process (a size the device cannot hold fails
+# neighbouring x; with the texel lookup columns need, so their frame differs in the lookup
+# too: compare their steps), each lattice size in its own process (a size the device cannot hold fails
 # alone), then one table of them (benches/gpu/item4_table.py). Not part of
 # CI or `cargo bench`: it needs no build tools, only a built vkgi, so it can run where the GPU is.
 #   bash benches/gpu/item4.sh [VKGI] [OUT]        (defaults: target/release/vkgi, item4)

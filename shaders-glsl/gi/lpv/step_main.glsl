@@ -69,7 +69,7 @@ void main() {
     if (!lattice_inside(first, pc.dims.xyz)) return;
     // The own columns below and at the first cell (below a whole column: nothing).
     if (WHOLE_COLUMNS != 0u) {
-        clear_plane(-1);
+        clear_own_columns(-1);
     } else {
         load_cells(first, -1, true, false);
     }

@@ -135,10 +135,10 @@ void load_plane(ivec3 origin, int dz) {
     load_cells(origin, dz, true, true);
 }
 
-// The plane dz of the block, zero: the block's plane below a whole column.
-void clear_plane(int dz) {
-    [[unroll]] for (int dy = -1; dy <= BUNDLE; ++dy) {
-        [[unroll]] for (int dx = -1; dx <= BUNDLE; ++dx) {
+// The own columns' cells of the block's plane dz, zero: below a whole column.
+void clear_own_columns(int dz) {
+    [[unroll]] for (int dy = 0; dy < BUNDLE; ++dy) {
+        [[unroll]] for (int dx = 0; dx < BUNDLE; ++dx) {
             uint slot = block_slot(ivec3(dx, dy, dz));
             [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
                 column_light[slot * CHANNELS + ch] = vec4(0.0);

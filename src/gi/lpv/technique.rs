@@ -788,7 +788,8 @@ pub struct Lpv {
     geometry: Buffer,
     neighbours: Buffer,
     axes: Buffer,
-    /// Rebuilt rows of the geometry lattice to write at the next frame: (byte offset, words).
+    /// Rebuilt runs of the geometry lattice (rows or columns, as its buffer holds them) to write
+    /// at the next frame: (byte offset, words).
     pending_geometry: Vec<(u64, Vec<u8>)>,
     geometry_update: Option<GeometryUpdate>,
     /// Which of the two lattices per channel holds the last frame's propagated light.
@@ -1777,8 +1778,8 @@ impl Lpv {
             self.injection_kept && !ctx.changes.lights && !ctx.changes.geometry;
         // Lights that move in every frame leave nothing worth keeping.
         self.injection_kept = !ctx.lights_move;
-        let rows = std::mem::take(&mut self.pending_geometry);
-        rec.update_buffer_runs("update geometry lattice", &self.geometry, &rows);
+        let runs = std::mem::take(&mut self.pending_geometry);
+        rec.update_buffer_runs("update geometry lattice", &self.geometry, &runs);
         // This frame's light goes into the lattice that does not hold last frame's result.
         self.current = if self.settings.scheme == Scheme::Ilpv {
             1 - self.result
@@ -1807,8 +1808,8 @@ impl Lpv {
     }
 
     /// Rebuild the geometry lattice's cells that geometry moving in the world boxes `regions`
-    /// changes, from `scene` as it is now (see [`geometry::touched_cells`]), and queue their
-    /// rows for the next frame.
+    /// changes, from `scene` as it is now (see [`geometry::touched_cells`]), and queue them as
+    /// runs of the buffer's order for the next frame.
     pub(super) fn follow_geometry(&mut self, scene: &Scene, regions: &[Aabb]) {
         let start = std::time::Instant::now();
         let lobe = self.settings.blocking_lobe;
@@ -1819,7 +1820,7 @@ impl Lpv {
                 geometry::build_region(&scene.mesh, &self.lattice, &self.transfer, lobe, &region)
                     .scaled(strength)
                     .to_f32();
-            self.queue_geometry_rows(&region, &words);
+            self.queue_geometry_runs(&region, &words);
             rebuilt += region.count();
         }
         self.geometry_update = Some(GeometryUpdate {
@@ -1832,7 +1833,7 @@ impl Lpv {
     /// Queue the words of the cells of `region` (in its order) as runs of cells consecutive in
     /// the geometry buffer: one per row (or column, in [`CellOrder::Columns`]) of the region,
     /// or fewer where those span the lattice.
-    fn queue_geometry_rows(&mut self, region: &CellBox, words: &[[f32; 4]]) {
+    fn queue_geometry_runs(&mut self, region: &CellBox, words: &[[f32; 4]]) {
         let k = self.geometry_words() as usize;
         let bytes_per_cell = (k * 16) as u64;
         for (first, cells) in self.cell_order.runs(self.lattice.dims, region) {
