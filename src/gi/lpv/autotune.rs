@@ -35,7 +35,6 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
-use super::lookup::LookupFilter;
 use super::technique::{
     ChannelPlan, Field, Kernel, Lpv, LpvSettings, column_shape, compensate_spirv,
     propagation_spirv,
@@ -277,9 +276,7 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
         settings.steps_compensate_results(),
         settings.cell_order,
         // The lookup's filter decides whether whole columns may lie in columns.
-        settings
-            .lookup_filter
-            .unwrap_or_else(|| LookupFilter::for_device(setup.gpu)),
+        settings.lookup_filter_on(setup.gpu),
         column_shape()
     )
 }

@@ -133,8 +133,9 @@ impl CellOrder {
         }
     }
 
-    /// The value of `lattice.glsl`'s specialisation constant `CELLS_IN_COLUMNS`.
-    pub fn specialization(self) -> u32 {
+    /// 1 for columns, 0 for rows: `lattice.glsl`'s specialisation constant `CELLS_IN_COLUMNS`,
+    /// and the order the lookup's field constants carry.
+    pub fn columns_flag(self) -> u32 {
         u32::from(self == CellOrder::Columns)
     }
 

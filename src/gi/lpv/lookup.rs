@@ -208,7 +208,7 @@ impl LookupField<'_> {
     fn read_dims(&self) -> [i32; 4] {
         let border = self.lattices.border() as i32;
         let [x, y, z, _] = self.dims.map(|d| d + 2 * border);
-        [x, y, z, self.cell_order.specialization() as i32]
+        [x, y, z, self.cell_order.columns_flag() as i32]
     }
 }
 

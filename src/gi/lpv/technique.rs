@@ -374,6 +374,13 @@ impl LpvSettings {
         }
     }
 
+    /// How the lookup reads the lattices on `gpu`: `lookup_filter`, or
+    /// [`LookupFilter::for_device`].
+    pub(super) fn lookup_filter_on(&self, gpu: &Gpu) -> LookupFilter {
+        self.lookup_filter
+            .unwrap_or_else(|| LookupFilter::for_device(gpu))
+    }
+
     /// How the lattices' buffers hold their cells on `gpu`, whose step walks whole columns or
     /// not, read with `filter`: `cell_order`, or [`CellOrder::for_step`].
     fn cell_order_on(
@@ -970,7 +977,7 @@ impl Lpv {
             ))
             .into());
         }
-        let lookup_filter = settings.lookup_filter.unwrap_or_else(|| LookupFilter::for_device(gpu));
+        let lookup_filter = settings.lookup_filter_on(gpu);
         check_lookup_limits(gpu, lookup_filter, &lattice, kernel.reads_texels())?;
         match settings.injection {
             Injection::Float if !gpu.info.shader_buffer_float32_atomic_add => anyhow::bail!(
@@ -1016,7 +1023,7 @@ impl Lpv {
         let whole_columns = bundle.is_some() && column >= lattice.dims.z;
         let cell_order = settings.cell_order_on(gpu, whole_columns, lookup_filter)?;
         let in_cell_order = |spec: Specialization| {
-            spec.with_u32(ids::CELLS_IN_COLUMNS_CONSTANT, cell_order.specialization())
+            spec.with_u32(ids::CELLS_IN_COLUMNS_CONSTANT, cell_order.columns_flag())
         };
         let inject_spec = in_cell_order(inject_spec);
         let propagate_spirv = propagation_spirv(settings.scheme, kernel, plan);
@@ -1710,11 +1717,20 @@ impl Lpv {
     /// The lattices the lookup would read, per channel, in rows whatever the buffers' order.
     pub fn read_result(&self, gpu: &Gpu) -> GpuResult<[Vec<[f32; 4]>; 3]> {
         let [r, g, b] = self.result_lattices();
-        let read = |buffer: &Buffer| -> GpuResult<Vec<[f32; 4]>> {
-            let placed: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_buffer(buffer)?).to_vec();
-            Ok(self.cell_order.to_rows(self.lattice.dims, &placed, 1))
-        };
+        let read = |buffer| self.read_rows(gpu, buffer, 1);
         Ok([read(r)?, read(g)?, read(b)?])
+    }
+
+    /// `buffer` of this lattice (`per_cell` values a cell) read back, in rows whatever the
+    /// buffers' order.
+    fn read_rows<T: bytemuck::Pod>(
+        &self,
+        gpu: &Gpu,
+        buffer: &Buffer,
+        per_cell: usize,
+    ) -> GpuResult<Vec<T>> {
+        let placed: Vec<T> = bytemuck::cast_slice(&gpu.read_buffer(buffer)?).to_vec();
+        Ok(self.cell_order.to_rows(self.lattice.dims, &placed, per_cell))
     }
 
     /// A digest of the lattices carried to the next frame and of those the lookup reads (each
@@ -1732,8 +1748,7 @@ impl Lpv {
         };
         let mut hash = hash;
         for buffer in carried.into_iter().chain(looked_up) {
-            let placed: Vec<[u8; 16]> = bytemuck::cast_slice(&gpu.read_buffer(buffer)?).to_vec();
-            let rows = self.cell_order.to_rows(self.lattice.dims, &placed, 1);
+            let rows: Vec<[u8; 16]> = self.read_rows(gpu, buffer, 1)?;
             hash = crate::digest::fnv1a(rows.as_flattened().iter().copied(), hash);
         }
         Ok(hash)
@@ -1862,9 +1877,8 @@ impl Lpv {
 
     /// The geometry lattice the GPU holds, in rows whatever its buffer's order (tests).
     pub fn read_geometry(&self, gpu: &Gpu) -> GpuResult<Vec<[f32; 4]>> {
-        let placed: Vec<[f32; 4]> = bytemuck::cast_slice(&gpu.read_buffer(&self.geometry)?).to_vec();
         let words = self.settings.blocking_lobe.words_per_cell();
-        Ok(self.cell_order.to_rows(self.lattice.dims, &placed, words))
+        self.read_rows(gpu, &self.geometry, words)
     }
 
     /// The RSM this lattice renders, if it renders one.
