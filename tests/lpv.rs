@@ -233,6 +233,51 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     common::assert_no_validation_errors(&gpu);
 }
 
+/// A frame's first step blocks nothing (the thesis), its own pipeline that reads no geometry;
+/// `--block-first-step` blocks it too. Either way every step gives the f64 reference's light,
+/// and the two differ where the geometry blocks.
+#[test]
+fn the_first_step_blocks_only_with_block_first_step() {
+    let gpu = common::gpu();
+    let scene = Scene::load("cornell").unwrap();
+    let steps = 3;
+    for scheme in [Scheme::Ilpv, Scheme::Lpv] {
+        let mut results = Vec::new();
+        for first_step_unblocked in [true, false] {
+            let settings = LpvSettings {
+                scheme,
+                lattice: 9,
+                iterations: steps as u32,
+                first_step_unblocked,
+                ..LpvSettings::default()
+            };
+            let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
+            let cells = lpv.lattice.cell_count();
+            let starts = [7, 8, 9].map(|seed| random_lattice(cells, 1.0, seed));
+            let geometry = random_geometry(BlockingLobe::TwoSided, cells, 0.6, 3);
+            lpv.load_lattices(&gpu, &starts.clone().map(|s| to_f32(&s)))
+                .unwrap();
+            lpv.load_geometry(&gpu, &geometry).unwrap();
+            gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
+            let result = lpv.read_result(&gpu).unwrap();
+            for c in 0..3 {
+                let (_, acc) = cpu_propagate(&lpv, &starts[c], &geometry, steps);
+                let error = relative_error(&result[c], &acc);
+                assert!(
+                    error < 1e-4,
+                    "{scheme:?} first step unblocked {first_step_unblocked} channel {c}: relative error {error:e}"
+                );
+            }
+            results.push(result);
+        }
+        assert!(
+            results[0] != results[1],
+            "{scheme:?}: the first step's blocking changed nothing"
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}
+
 /// Where nothing reads a step's result (ILPV at λ_incr 0 and 2 steps: one step runs and its
 /// light only goes into the accumulation, as in a two-scale near field), the step writes the
 /// accumulation alone. With the clamp compensation (which applies the medium before the step)

@@ -25,6 +25,58 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// A frame's first propagation step blocks nothing, so it reads no geometry: its row is held
+/// to that lesser bound, the later steps' rows to the configuration's core bound.
+fn assert_first_step_held_to_its_own_bound(
+    config: &serde_json::Value,
+    passes: &[serde_json::Value],
+) {
+    let method = config["method"].as_str().unwrap();
+    let core = &config["core"];
+    if !method.contains("lpv") {
+        return;
+    }
+    let number = |v: &serde_json::Value| v.as_f64().unwrap();
+    let first = &core["first_run"];
+    assert!(
+        number(&first["bytes"]) < number(&core["bytes_per_unit"])
+            && number(&first["flops"]) < number(&core["flops_per_unit"]),
+        "{method}: {core}"
+    );
+    let units = number(&core["units"]);
+    let limits = &config["limits"];
+    let bound = |bytes: f64, flops: f64| {
+        (bytes * units / number(&limits["bandwidth_bytes_per_ns"]))
+            .max(flops * units / number(&limits["flops_per_ns"]))
+    };
+    let row = |pass: &str| {
+        passes
+            .iter()
+            .find(|p| {
+                p["method"] == config["method"]
+                    && p["value"] == config["value"]
+                    && p["pass"] == pass
+            })
+            .unwrap_or_else(|| panic!("{method}: no {pass}"))
+    };
+    for (pass, bytes, flops) in [
+        ("propagate R step 1", &first["bytes"], &first["flops"]),
+        (
+            "propagate R step 2",
+            &core["bytes_per_unit"],
+            &core["flops_per_unit"],
+        ),
+    ] {
+        let p = row(pass);
+        let expected = bound(number(bytes), number(flops)) / number(&p["median_ns"]);
+        let fraction = number(&p["fraction_of_bound"]);
+        assert!(
+            (fraction - expected).abs() <= 1e-9 * expected,
+            "{method} {pass}: {fraction} against {expected}"
+        );
+    }
+}
+
 #[test]
 fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
     let dir = scratch("profile");
@@ -116,6 +168,7 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
     let rate = |limits: &serde_json::Value, key: &str| limits[key].as_f64().unwrap();
     for config in profile["configs"].as_array().unwrap() {
         let method = config["method"].as_str().unwrap();
+        assert_first_step_held_to_its_own_bound(config, passes);
         // Each configuration's bounds use the limits probed around its frames; the run's are
         // the best of them.
         for key in ["bandwidth_bytes_per_ns", "flops_per_ns"] {

@@ -256,7 +256,7 @@ fn run_config(
         pass: c.pass,
         unit: c.unit,
         units: c.units,
-        ns_per_unit: core_pass_median(&report, entry.name, c.pass) / c.units.max(1) as f64,
+        ns_per_unit: core_pass_median(&report, entry.name, &c) / c.units.max(1) as f64,
     });
     Ok(Run {
         indirect: HdrImage::new(

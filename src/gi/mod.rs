@@ -111,9 +111,19 @@ pub struct CorePass {
     pub unit: &'static str,
     /// Units one run of the pass processes.
     pub units: usize,
-    /// Bytes moved and flops done per unit, for the roofline bound.
-    pub bytes_per_unit: f64,
-    pub flops_per_unit: f64,
+    /// What a run must move and compute per unit, for the roofline bound.
+    pub cost: UnitCost,
+    /// Where a frame's first run of the pass must do less (a propagation's first step, which
+    /// blocks nothing), what it must do: the profile holds that run to it and leaves it out of
+    /// the pass's median.
+    pub first_run: Option<UnitCost>,
+}
+
+/// Bytes moved and flops done per unit of a pass's work at the ideal.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct UnitCost {
+    pub bytes: f64,
+    pub flops: f64,
 }
 
 /// A pass that runs once per pixel of a view, and what it must move and compute per pixel at

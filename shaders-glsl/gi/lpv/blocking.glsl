@@ -12,6 +12,14 @@
 
 layout(constant_id = 4) const uint GEOMETRY_WORDS = 1u;
 
+// 0 for a step that blocks nothing (a frame's first, which the thesis leaves unblocked:
+// src/gi/lpv/technique.rs): it reads no geometry and evaluates no blocking. A constant, so that
+// they are compiled away; a factor of 0 would leave lavapipe reading and computing them.
+layout(constant_id = 11) const uint BLOCKS = 1u;
+
+// The geometry words a step reads per cell: none where it blocks nothing.
+const uint GEOMETRY_READ_WORDS = BLOCKS != 0u ? GEOMETRY_WORDS : 0u;
+
 struct GeometryWords {
     vec4 w[4];  // the first GEOMETRY_WORDS hold the cell's words, the rest zero
 };
@@ -47,6 +55,12 @@ float blocking_of(GeometryWords source, GeometryWords destination, vec4 transfer
         return 0.5 * (min(tensor, axes) + dot(vec3(mv.zw, vs.x), o));
     }
     return dot(source.w[0], transfer);
+}
+
+// The share of a transfer that passes geometry blocking `blocked` of it (blocking_of): all of it
+// where the step blocks nothing.
+float passing_share(float blocked) {
+    return BLOCKS != 0u ? clamp(1.0 - blocked, 0.0, 1.0) : 1.0;
 }
 
 #endif

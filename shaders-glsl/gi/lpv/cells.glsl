@@ -78,10 +78,11 @@ vec4 stored_geometry(uint k, uint w) {
     return READ_CELL(geometry_cells, k * GEOMETRY_WORDS + w);
 }
 
-// The geometry of lattice cell `k` where `inside`, zero elsewhere.
+// The geometry of lattice cell `k` where `inside`, zero elsewhere (and where the step blocks
+// nothing).
 GeometryWords stored_cell_geometry(uint k, bool inside) {
     GeometryWords g = no_geometry();
-    for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
+    for (uint w = 0u; w < GEOMETRY_READ_WORDS; ++w) g.w[w] = inside ? stored_geometry(k, w) : vec4(0.0);
     return g;
 }
 

@@ -20,7 +20,6 @@ layout(push_constant) uniform Push {
     ivec4 dims;
     float keep;            // 1 - λs - λa
     float scatter_energy;  // 2 sqrt(pi) λs
-    float use_blocking;    // 0 in the first step of a frame
     uint accumulate;       // 1: also add the result to the accumulation lattice
     float keep_dc;         // the clamp compensation's medium, 1 - λa
     float keep_directional;  // 1 - λa - λs
@@ -83,7 +82,7 @@ void add_neighbour(ivec3 cell, int d, GeometryWords own_geometry, inout Light ds
     vec4 transfer = neighbour_transfer[d];
     ivec3 offset = neighbour_offset(d);
     float blocked = blocking_of(source_geometry(cell, -offset), own_geometry, transfer, offset);
-    float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
+    float blocking = passing_share(blocked);
     [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
         vec4 src = source_light(cell, -offset, c);
         float transported = max(dot(src, transfer), 0.0);

@@ -27,7 +27,6 @@ layout(binding = STEP_CONSTANTS, std140) uniform Axes { Axis axes[6]; };
 
 layout(push_constant) uniform Push {
     ivec4 dims;
-    float use_blocking;
 } pc;
 
 #include "gi/lpv/tile.glsl"
@@ -67,7 +66,7 @@ Light gather(ivec3 cell) {
         GeometryWords blocker = source;
         if (GEOMETRY_WORDS == 1u) blocker = mean_geometry(source, own_geometry);
         float blocked = blocking_of(blocker, own_geometry, axis_blocking_transfer[a], offset);
-        float blocking = clamp(1.0 - pc.use_blocking * blocked, 0.0, 1.0);
+        float blocking = passing_share(blocked);
         [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
             vec4 src = source_light(cell, -offset, c);
             [[unroll]] for (int f = 0; f < 5; ++f) {

@@ -46,7 +46,7 @@ void prepare_sources() {
         [[unroll]] for (int c = 0; c < CHANNELS; ++c) {
             tile_light[tile_index(t) * CHANNELS + c] = inside ? stored_light(k, c) : vec4(0.0);
         }
-        for (uint w = 0u; w < GEOMETRY_WORDS; ++w) {
+        for (uint w = 0u; w < GEOMETRY_READ_WORDS; ++w) {
             tile_geometry[tile_index(t) * GEOMETRY_WORDS + w] =
                 inside ? stored_geometry(k, w) : vec4(0.0);
         }
@@ -61,7 +61,7 @@ vec4 source_light(ivec3 cell, ivec3 offset, int c) {
 GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     uint t = tile_index(ivec3(gl_LocalInvocationID) + 1 + offset) * GEOMETRY_WORDS;
     GeometryWords g = no_geometry();
-    for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = tile_geometry[t + w];
+    for (uint w = 0u; w < GEOMETRY_READ_WORDS; ++w) g.w[w] = tile_geometry[t + w];
     return g;
 }
 #elif LPV_COLUMN
@@ -196,7 +196,7 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     GeometryWords g = no_geometry();
     if (lattice_inside(c, pc.dims.xyz)) {
         uint k = lattice_index(c, pc.dims.xyz);
-        for (uint w = 0u; w < GEOMETRY_WORDS; ++w) g.w[w] = stored_geometry(k, w);
+        for (uint w = 0u; w < GEOMETRY_READ_WORDS; ++w) g.w[w] = stored_geometry(k, w);
     }
     return g;
 }

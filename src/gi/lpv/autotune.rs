@@ -265,12 +265,14 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
             crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | writes result {} | medium in step {} | compensates result {} | cell order {:?} | lookup {:?} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
+        "{} | {} | {:?} | lattice {} | {} words | first step blocks {} | writes result {} | medium in step {} | compensates result {} | cell order {:?} | lookup {:?} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
         info.name,
         info.driver,
         settings.scheme,
         settings.lattice,
         settings.blocking_lobe.words_per_cell(),
+        // Whether a frame's first step reads the geometry (its own pipeline where it does not).
+        settings.step_blocks(0),
         settings.step_results_read(),
         settings.step_applies_medium(),
         settings.steps_compensate_results(),

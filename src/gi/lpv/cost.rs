@@ -28,6 +28,11 @@
 //! the mean) once for all three, so per cell and channel its ideal is a third of those: ILPV
 //! 26 × (20 + 9/3) = 598 flops and 80 - 2/3 × 16 bytes with an SH lobe, LPV 6 × (85 + 14/3) = 538.
 //!
+//! A frame's first step blocks nothing (the thesis; `--block-first-step` blocks it too): it
+//! reads no geometry and evaluates no blocking, so its ideal is the transport alone (ILPV's
+//! near field, whose one step a frame is that step, 442 flops and 48 bytes a cell-channel
+//! fused; LPV 510).
+//!
 //! The lookup, per pixel: the G-buffer's position (16 B), normal and albedo (8 B each, half
 //! floats) read and the HDR pixel read and written (32 B), 64 B; a lattice is small enough to
 //! stay in cache, so at the ideal its cells are read once a frame, not per pixel. Arithmetic:
@@ -52,13 +57,22 @@
 
 use super::technique::Scheme;
 
-/// Flops of the blocking function for geometry of `geometry_words` words per cell.
-fn blocking_flops(geometry_words: u32) -> f64 {
-    match geometry_words {
+/// Flops of the blocking of one transfer (ILPV: a neighbour; LPV: an axis) with geometry of
+/// `geometry_words` words per cell: the function (⟨B|Γ⟩ 7, the projected area 29, visibility's
+/// entry 2), its clamp 2 and, for LPV's SH lobes, the mean of two cells 5. None for a step that
+/// reads no geometry (0 words: a frame's first, which blocks nothing).
+fn blocking_flops(scheme: Scheme, geometry_words: u32) -> f64 {
+    let function = match geometry_words {
+        0 => return 0.0,
         1 => 7.0,
         3 => 29.0,
         _ => 2.0,
-    }
+    };
+    let mean = match (scheme, geometry_words) {
+        (Scheme::Lpv, 1) => 5.0,
+        _ => 0.0,
+    };
+    function + 2.0 + mean
 }
 
 /// What a step writes: its result lattice (not where nothing reads it) and its addition to the
@@ -70,7 +84,8 @@ pub struct StepWrites {
 }
 
 /// Bytes a step must move per cell and channel at the ideal (each cell read and written once),
-/// when a dispatch carries `channels` colour channels (1 or 3).
+/// when a dispatch carries `channels` colour channels (1 or 3) and reads `geometry_words` words
+/// of geometry per cell (0 where it blocks nothing).
 pub fn bytes_per_cell(scheme: Scheme, writes: StepWrites, geometry_words: u32, channels: u32) -> f64 {
     let geometry = 16.0 * f64::from(geometry_words) / f64::from(channels);
     let result = if writes.result { 16.0 } else { 0.0 };
@@ -98,14 +113,15 @@ pub enum StepWork {
 }
 
 /// Floating-point operations a step performs per cell and channel, when a dispatch carries
-/// `channels` colour channels (1 or 3) and evaluates the blocking once for all of them; `work`:
-/// what an ILPV step does besides transport.
+/// `channels` colour channels (1 or 3) and evaluates the blocking once for all of them, with
+/// geometry of `geometry_words` words per cell (0: the step blocks nothing); `work`: what an
+/// ILPV step does besides transport.
 pub fn flops_per_cell(scheme: Scheme, work: StepWork, geometry_words: u32, channels: u32) -> f64 {
     let channels = f64::from(channels);
-    let blocking = blocking_flops(geometry_words);
+    let blocking = blocking_flops(scheme, geometry_words);
     match scheme {
         // Per neighbour 20 per channel (17 without the medium: the outscattered energy and
-        // the factor's mul and fma); the blocking function and its clamp (2) once.
+        // the factor's mul and fma); the blocking once.
         Scheme::Ilpv => {
             let per_channel = if work == StepWork::AppliesMedium {
                 20.0
@@ -117,12 +133,9 @@ pub fn flops_per_cell(scheme: Scheme, work: StepWork, geometry_words: u32, chann
             } else {
                 0.0
             };
-            26.0 * (per_channel + (blocking + 2.0) / channels) + compensation
+            26.0 * (per_channel + blocking / channels) + compensation
         }
-        Scheme::Lpv => {
-            let mean = if geometry_words == 1 { 5.0 } else { 0.0 };
-            6.0 * (5.0 * 17.0 + (mean + blocking + 2.0) / channels)
-        }
+        Scheme::Lpv => 6.0 * (5.0 * 17.0 + blocking / channels),
     }
 }
 
@@ -171,6 +184,10 @@ mod tests {
         assert_eq!(flops_per_cell(Scheme::Ilpv, APPLIES, 1, 3), 598.0);
         assert_eq!(flops_per_cell(Scheme::Ilpv, TRANSPORTS, 1, 3), 520.0);
         assert_eq!(flops_per_cell(Scheme::Lpv, TRANSPORTS, 1, 3), 538.0);
+        // A frame's first step, which blocks nothing: transport alone.
+        assert_eq!(flops_per_cell(Scheme::Ilpv, TRANSPORTS, 0, 3), 442.0);
+        assert_eq!(flops_per_cell(Scheme::Ilpv, TRANSPORTS, 0, 1), 442.0);
+        assert_eq!(flops_per_cell(Scheme::Lpv, TRANSPORTS, 0, 3), 510.0);
         let writes = |result, accumulation| StepWrites {
             result,
             accumulation,
@@ -183,6 +200,8 @@ mod tests {
         // A two-scale near field's step writes the accumulation alone.
         let near_field = bytes_per_cell(Scheme::Ilpv, writes(false, true), 1, 3);
         assert!((near_field - 160.0 / 3.0).abs() < 1e-12, "{near_field}");
+        // ... which, blocking nothing (the first of a frame), reads no geometry.
+        assert_eq!(bytes_per_cell(Scheme::Ilpv, writes(false, true), 0, 3), 48.0);
         assert_eq!(lookup_flops_per_pixel(1), 275.0);
         assert_eq!(lookup_flops_per_pixel(2), 538.0);
         assert_eq!(half_lookup_flops_per_texel(1), 300.0);

@@ -19,7 +19,7 @@ use crate::error::InputError;
 use crate::gi::registry::Setup;
 use crate::gi::shared::rsm::Rsm;
 use crate::gi::shared::sh;
-use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod, PixelPass};
+use crate::gi::{Convergence, CorePass, Follow, FrameContext, GiMethod, PixelPass, UnitCost};
 use crate::scene::dynamic::Aabb;
 use crate::scene::{Light, Scene};
 use crate::gpu::{
@@ -414,6 +414,12 @@ impl LpvSettings {
         self.scheme == Scheme::Ilpv && self.clamp_compensation && self.steps_run() > 1
     }
 
+    /// Whether step `step` (from 0) of a frame blocks light: every one but a frame's first,
+    /// which the thesis leaves unblocked (`--block-first-step` blocks it too).
+    pub(super) fn step_blocks(&self, step: usize) -> bool {
+        step > 0 || !self.first_step_unblocked
+    }
+
     /// What an ILPV step does besides transport, for its cost.
     pub(super) fn step_work(&self) -> StepWork {
         if self.step_applies_medium() {
@@ -518,7 +524,6 @@ crate::push_constants! {
         dims: [i32; 4],
         keep: f32,
         scatter_energy: f32,
-        use_blocking: f32,
         accumulate: u32,
         keep_dc: f32,
         keep_directional: f32,
@@ -529,7 +534,6 @@ crate::push_constants! {
 crate::push_constants! {
     struct LpvPush {
         dims: [i32; 4],
-        use_blocking: f32,
     }
 }
 
@@ -767,7 +771,7 @@ pub struct Lpv {
     fixed: Option<FixedInjection>,
     merge_pipeline: ComputePipeline,
     compensate_pipeline: ComputePipeline,
-    propagate_pipeline: ComputePipeline,
+    step_pipelines: StepPipelines,
     /// The lookup pass of a lattice looked up on its own (None: two scales look up both of
     /// theirs in one pass).
     lookup: Option<Lookup>,
@@ -1054,7 +1058,16 @@ impl Lpv {
             Scheme::Ilpv => "ilpv propagation",
             Scheme::Lpv => "lpv propagation",
         };
-        let propagate_pipeline = ComputePipeline::new(gpu, propagate_name, propagate_spirv, &spec)?;
+        let step_pipeline = |blocks: bool| {
+            let spec = spec.clone().with_u32(11, u32::from(blocks));
+            ComputePipeline::new(gpu, propagate_name, propagate_spirv, &spec)
+        };
+        let first_blocks = settings.step_blocks(0);
+        let later_differ = settings.steps_run() > 1 && settings.step_blocks(1) != first_blocks;
+        let step_pipelines = StepPipelines {
+            first: step_pipeline(first_blocks)?,
+            later: later_differ.then(|| step_pipeline(!first_blocks)).transpose()?,
+        };
         let rsm = match field {
             Field::Far => None,
             Field::Whole => Some(Rsm::new(gpu, scene, settings.rsm)?),
@@ -1164,7 +1177,7 @@ impl Lpv {
                 compensate_spirv(plan, texels),
                 &none,
             )?,
-            propagate_pipeline,
+            step_pipelines,
             lookup: None,
             lookup_images,
             rsm,
@@ -1506,11 +1519,7 @@ impl Lpv {
         (absorption, scattering): (f64, f64),
     ) -> GpuResult<()> {
         let cells = self.lattice.cell_count() as u32;
-        let use_blocking = if step == 0 && self.settings.first_step_unblocked {
-            0.0
-        } else {
-            1.0
-        };
+        let pipeline = self.step_pipelines.for_step(step);
         let bindings = self.step_bindings(channels, src);
         match self.settings.scheme {
             Scheme::Ilpv => {
@@ -1541,7 +1550,6 @@ impl Lpv {
                     dims: self.dims(),
                     keep: (1.0 - absorption - scattering) as f32,
                     scatter_energy: (sh::SQRT_PI_2 * scattering) as f32,
-                    use_blocking,
                     accumulate: u32::from(self.accumulates(step)),
                     keep_dc,
                     keep_directional,
@@ -1551,20 +1559,17 @@ impl Lpv {
                 };
                 rec.compute(&ComputePass {
                     name: self.propagate_pass,
-                    pipeline: &self.propagate_pipeline,
+                    pipeline,
                     bindings: &bindings,
                     push: &push,
                     threads: self.propagate_threads,
                 })
             }
             Scheme::Lpv => {
-                let push = LpvPush {
-                    dims: self.dims(),
-                    use_blocking,
-                };
+                let push = LpvPush { dims: self.dims() };
                 rec.compute(&ComputePass {
                     name: self.propagate_pass,
-                    pipeline: &self.propagate_pipeline,
+                    pipeline,
                     bindings: &bindings,
                     push: &push,
                     threads: self.propagate_threads,
@@ -1754,6 +1759,26 @@ impl Lpv {
         Ok(hash)
     }
 
+}
+
+/// The propagation's pipelines: a frame's first step's, and the later steps' where they differ.
+/// A step that blocks nothing (a frame's first, [`LpvSettings::step_blocks`]) is its own
+/// pipeline (`BLOCKS`, specialisation constant 11, gi/lpv/blocking.glsl): it reads no geometry
+/// and evaluates no blocking, the same bits as a blocking factor of 1, a quarter less time on
+/// lavapipe (docs/performance.md).
+struct StepPipelines {
+    first: ComputePipeline,
+    later: Option<ComputePipeline>,
+}
+
+impl StepPipelines {
+    /// The pipeline of step `step` (from 0) of a frame.
+    fn for_step(&self, step: usize) -> &ComputePipeline {
+        match (step, &self.later) {
+            (1.., Some(later)) => later,
+            _ => &self.first,
+        }
+    }
 }
 
 /// Threads a propagation step dispatches over a lattice of `dims` cells: a thread per cell (a
@@ -1994,27 +2019,35 @@ impl GiMethod for Lpv {
     }
 
     fn core_pass(&self) -> Option<CorePass> {
+        // A step's ideal, by whether it blocks (a step that does not reads no geometry).
+        let ideal = |blocks: bool| {
+            let words = if blocks { self.geometry_words() } else { 0 };
+            let writes = StepWrites {
+                result: self.settings.step_results_read(),
+                // ILPV's final lookup reads the last step alone: no step accumulates.
+                accumulation: !self.settings.reads_final(),
+            };
+            UnitCost {
+                bytes: cost::bytes_per_cell(self.settings.scheme, writes, words, self.plan.channels()),
+                flops: cost::flops_per_cell(
+                    self.settings.scheme,
+                    self.settings.step_work(),
+                    words,
+                    self.plan.channels(),
+                ),
+            }
+        };
+        // The steps after a frame's first where it runs more than one (LPV's eight, a far
+        // field's), its first otherwise (ILPV's near field).
+        let typical = ideal(self.settings.step_blocks(usize::from(self.settings.steps_run() > 1)));
+        let first = ideal(self.settings.step_blocks(0));
         Some(CorePass {
             pass: self.propagate_pass,
             // One channel of one cell, whether a dispatch carries one channel or three.
             unit: "cell-channel",
             units: self.lattice.cell_count() * self.plan.channels() as usize,
-            bytes_per_unit: cost::bytes_per_cell(
-                self.settings.scheme,
-                StepWrites {
-                    result: self.settings.step_results_read(),
-                    // ILPV's final lookup reads the last step alone: no step accumulates.
-                    accumulation: !self.settings.reads_final(),
-                },
-                self.geometry_words(),
-                self.plan.channels(),
-            ),
-            flops_per_unit: cost::flops_per_cell(
-                self.settings.scheme,
-                self.settings.step_work(),
-                self.geometry_words(),
-                self.plan.channels(),
-            ),
+            cost: typical,
+            first_run: (first != typical).then_some(first),
         })
     }
     fn pixel_passes(&self) -> Vec<PixelPass> {
