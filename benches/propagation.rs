@@ -1,5 +1,5 @@
 //! Every method with a size axis (LPV and ILPV: the lattice) per size: the tiled, naive, column
-//! and single-column kernels, a dispatch per colour channel against the three fused in one,
+//! single-column and (on CPU devices) shared-rows kernels, a dispatch per colour channel against the three fused in one,
 //! and one submission against one per part (colour channel) on its queue, timed by vkgi's own
 //! GPU profiler through the same code as `vkgi profile` (so both print the same numbers).
 //!
@@ -73,6 +73,12 @@ fn main() -> anyhow::Result<()> {
         (
             "single column, channels fused",
             "single-column",
+            "fused",
+            SubmitPlan::Sequential,
+        ),
+        (
+            "shared rows, channels fused",
+            "shared-rows",
             "fused",
             SubmitPlan::Sequential,
         ),

@@ -8,7 +8,9 @@ use vkgi::gi::lpv::cpu::{self, StepParams};
 use vkgi::gi::lpv::geometry::{BlockingLobe, GeometryLattice};
 use vkgi::gi::lpv::lattice::CellOrder;
 use vkgi::gi::lpv::projected;
-use vkgi::gi::lpv::technique::{ChannelPlan, FarLattice, IlpvLookup, column_cells};
+use vkgi::gi::lpv::technique::{
+    ChannelPlan, FarLattice, IlpvLookup, column_cells, shared_rows_possible,
+};
 use vkgi::gi::lpv::transfer::FaceScheme;
 use vkgi::gi::lpv::two_scale;
 use vkgi::gi::lpv::{Kernel, LookupFilter, Lpv, LpvSettings, Scheme};
@@ -2219,15 +2221,25 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
         "{first_kernel} against the cache's {plan}"
     );
     // Every kernel and plan was a candidate, and each line of the profile names its time.
-    assert_eq!(entry["timings"].as_array().unwrap().len(), 6, "{entry}");
-    for candidate in [
+    // The shared rows where the device allows them (lavapipe: a CPU device with shuffles).
+    let gpu = common::gpu();
+    let mut candidates = vec![
         "tiled separate",
         "tiled fused",
         "column separate",
         "column fused",
         "single-column separate",
         "single-column fused",
-    ] {
+    ];
+    if shared_rows_possible(&gpu) {
+        candidates.extend(["shared-rows separate", "shared-rows fused"]);
+    }
+    assert_eq!(
+        entry["timings"].as_array().unwrap().len(),
+        candidates.len(),
+        "{entry}"
+    );
+    for candidate in candidates {
         // Each time follows ": " (the first) or ", " (the rest), so "column fused" cannot
         // match inside "single-column fused".
         assert!(

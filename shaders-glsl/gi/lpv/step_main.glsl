@@ -5,12 +5,24 @@
 // stream, `gather_group(cell, group, own_geometry, dst)`, its terms from one plane of sources)
 // and `void store(ivec3 cell, Light light)`; tile.glsl's mode decides how cells are walked.
 
+// Whether the piece of a column from `first` lies outside the lattice, so that its thread
+// returns at once. With shared rows only where the whole row does: a thread past the lattice in
+// x still reads the ends of a plane's rows for its subgroup (one a lane) and its cells for the
+// lanes beside it (zeros), and stores nothing.
+bool walks_nothing(ivec3 first) {
+#if COLUMN_SHARED_ROWS
+    return first.y >= pc.dims.y || first.z >= pc.dims.z;
+#else
+    return !lattice_inside(first, pc.dims.xyz);
+#endif
+}
+
 void main() {
     load_step_constants();
 #if LPV_COLUMN && COLUMN_STREAM
     // The bundle's first column, the first cell of its piece of the column and the last.
     ivec3 first = ivec3(gl_GlobalInvocationID.xy * BUNDLE, gl_GlobalInvocationID.z * COLUMN);
-    if (!lattice_inside(first, pc.dims.xyz)) return;
+    if (walks_nothing(first)) return;
     int last = min(first.z + int(COLUMN), pc.dims.z) - 1;
     // While plane p is read, each member's cell at p has the group of plane p + 1 (`nearer`),
     // the one at p + 1 those of p + 2 and p + 1 (`farther`): plane p completes the farther,
@@ -66,7 +78,7 @@ void main() {
 #elif LPV_COLUMN
     // The bundle's first column, and the first cell of its piece of the column.
     ivec3 first = ivec3(gl_GlobalInvocationID.xy * BUNDLE, gl_GlobalInvocationID.z * COLUMN);
-    if (!lattice_inside(first, pc.dims.xyz)) return;
+    if (walks_nothing(first)) return;
     // The own columns below and at the first cell (below a whole column: nothing).
     if (WHOLE_COLUMNS != 0u) {
         clear_own_columns(-1);
@@ -79,7 +91,7 @@ void main() {
         ivec3 origin = first + ivec3(0, 0, k);
         if (origin.z >= pc.dims.z) break;
         // This plane around the own columns, and the own columns above.
-        load_cells(origin, 0, false, true);
+        load_around(origin);
         load_cells(origin, 1, true, false);
         [[unroll]] for (int y = 0; y < BUNDLE; ++y) {
             [[unroll]] for (int x = 0; x < BUNDLE; ++x) {

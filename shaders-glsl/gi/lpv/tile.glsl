@@ -16,6 +16,9 @@
 #ifndef COLUMN_STREAM
 #define COLUMN_STREAM 0
 #endif
+#ifndef COLUMN_SHARED_ROWS
+#define COLUMN_SHARED_ROWS 0
+#endif
 #if LPV_COLUMN && !COLUMN_STREAM && !COLUMN_FACES_ONLY
 #error "the column block keeps only its own columns off the current plane: face neighbours only"
 #endif
@@ -65,7 +68,8 @@ GeometryWords source_geometry(ivec3 cell, ivec3 offset) {
     return g;
 }
 #elif LPV_COLUMN
-// Column: each thread steps along z through COLUMN cells of a bundle of BUNDLE x BUNDLE
+// Column (and shared rows, COLUMN_SHARED_ROWS below, which read a plane differently): each
+// thread steps along z through COLUMN cells of a bundle of BUNDLE x BUNDLE
 // neighbouring columns and loads each plane of (BUNDLE + 2)² cells around them once for the
 // whole bundle (ILPV: 9 cells a column for one column, 4 for a bundle of 2x2) into registers
 // (slots indexed by constant offsets once the loops are unrolled). Two walks (step_main.glsl):
@@ -130,9 +134,115 @@ void load_cells(ivec3 origin, int dz, bool own, bool around) {
     }
 }
 
+#if COLUMN_SHARED_ROWS
+// Shared rows (`--kernel shared-rows`: one column a thread, BUNDLE 1): a thread reads its own
+// column's cell of each row it needs and takes the cells at x - 1 and x + 1 from the lanes
+// beside it; the subgroup's two ends come from one more read, lane j reading the j-th end (the
+// left end of row j / 2 where j is even, its right end where j is odd). src/gi/lpv/technique.rs
+// allows the kernel where the lanes lie along x as this assumes: a CPU device, whose subgroups
+// are runs of consecutive invocations, and workgroups whose width is a whole number of them.
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_shuffle : require
+
+// What a step reads of one cell.
+struct CellWords {
+    vec4 light[CHANNELS];
+    GeometryWords geometry;
+};
+
+// Cell `c`'s light and geometry where `wanted` and inside the lattice, zero elsewhere.
+CellWords read_cell(ivec3 c, bool wanted) {
+    bool inside = wanted && lattice_inside(c, pc.dims.xyz);
+    uint k = inside ? lattice_index(c, pc.dims.xyz) : 0u;
+    CellWords w;
+    [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
+        w.light[ch] = inside ? stored_light(k, ch) : vec4(0.0);
+    }
+    w.geometry = stored_cell_geometry(k, inside);
+    return w;
+}
+
+// The cell at `offset` from the column into its slot.
+void put_cell(ivec3 offset, CellWords w) {
+    uint slot = block_slot(offset);
+    [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) column_light[slot * CHANNELS + ch] = w.light[ch];
+    column_geometry[slot] = w.geometry;
+}
+
+// The ends of `rows` rows from dy = `first_dy` of plane dz around the column at `origin`: this
+// lane's one, if any.
+CellWords read_ends(ivec3 origin, int dz, int first_dy, int rows) {
+    int j = int(gl_SubgroupInvocationID);
+    ivec3 row_start = origin - ivec3(j, 0, 0);
+    int x = (j & 1) != 0 ? int(gl_SubgroupSize) : -1;
+    return read_cell(row_start + ivec3(x, first_dy + j / 2, dz), j < 2 * rows);
+}
+
+// `own` of the lane at `side` (-1 or 1) of this one, or at the subgroup's end the end `end` of
+// `ends`. Both shuffles run in every lane (a lane that skipped one would leave its value
+// undefined for the others).
+vec4 from_lane_beside(vec4 own, vec4 ends, uint end, int side) {
+    uint lane = gl_SubgroupInvocationID;
+    bool at_end = side < 0 ? lane == 0u : lane == gl_SubgroupSize - 1u;
+    vec4 beside = subgroupShuffle(own, at_end ? lane : uint(int(lane) + side));
+    vec4 end_value = subgroupShuffle(ends, end);
+    return at_end ? end_value : beside;
+}
+
+// The cell at x + `side` of the row whose cell at x is `own` (end `end` of `ends` at the
+// subgroup's end), zero outside the lattice's x range (`inside` false).
+CellWords cell_beside(CellWords own, CellWords ends, uint end, int side, bool inside) {
+    CellWords c;
+    [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
+        vec4 v = from_lane_beside(own.light[ch], ends.light[ch], end, side);
+        c.light[ch] = inside ? v : vec4(0.0);
+    }
+    c.geometry = no_geometry();
+    for (uint w = 0u; w < GEOMETRY_READ_WORDS; ++w) {
+        vec4 v = from_lane_beside(own.geometry.w[w], ends.geometry.w[w], end, side);
+        c.geometry.w[w] = inside ? v : vec4(0.0);
+    }
+    return c;
+}
+
+// Row dy of plane dz around the column at `origin`, whose ends are `ends` from `first_dy` on:
+// its cells at x - 1, x and x + 1 into their slots.
+void load_row(ivec3 origin, int dz, int dy, CellWords ends, int first_dy, CellWords own) {
+    uint left_end = uint(2 * (dy - first_dy));
+    put_cell(ivec3(-1, dy, dz), cell_beside(own, ends, left_end, -1, origin.x > 0));
+    put_cell(ivec3(1, dy, dz), cell_beside(own, ends, left_end + 1u, 1, origin.x + 1 < pc.dims.x));
+}
+#endif
+
 // The whole plane dz around the bundle (the stream's).
 void load_plane(ivec3 origin, int dz) {
+#if COLUMN_SHARED_ROWS
+    CellWords ends = read_ends(origin, dz, -1, 3);
+    [[unroll]] for (int dy = -1; dy <= 1; ++dy) {
+        CellWords own = read_cell(origin + ivec3(0, dy, dz), true);
+        put_cell(ivec3(0, dy, dz), own);
+        load_row(origin, dz, dy, ends, -1, own);
+    }
+#else
     load_cells(origin, dz, true, true);
+#endif
+}
+
+// The block's current plane around its own columns (the block's: LPV's face neighbours).
+void load_around(ivec3 origin) {
+#if COLUMN_SHARED_ROWS
+    // The cells at y - 1 and y + 1 read, those at x - 1 and x + 1 from the lanes beside.
+    CellWords ends = read_ends(origin, 0, 0, 1);
+    uint slot = block_slot(ivec3(0));
+    CellWords own;
+    [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) own.light[ch] = column_light[slot * CHANNELS + ch];
+    own.geometry = column_geometry[slot];
+    load_row(origin, 0, 0, ends, 0, own);
+    put_cell(ivec3(0, -1, 0), read_cell(origin + ivec3(0, -1, 0), true));
+    put_cell(ivec3(0, 1, 0), read_cell(origin + ivec3(0, 1, 0), true));
+#else
+    load_cells(origin, 0, false, true);
+#endif
 }
 
 // The own columns' cells of the block's plane dz, zero: below a whole column.

@@ -4,8 +4,10 @@
 //! The tiled kernel (a shared-memory tile per workgroup) suits GPUs; the column kernels (a
 //! bundle of 2x2 columns of cells, or one column, per thread, their sources in registers and
 //! read as texels) suit CPU devices such as lavapipe, where every storage-buffer load is made
-//! lane by lane: the bundle reads fewer cells a column, the single column keeps fewer, and
-//! which is faster depends on the scheme, the plan and the lattice. A fused dispatch of
+//! lane by lane: the bundle reads fewer cells a column, the single column keeps fewer, the
+//! shared rows (one column a thread whose lanes pass each row's cells to each other, where the
+//! device allows it) read fewer without keeping more, and which is faster depends on the scheme,
+//! the plan and the lattice. A candidate the device cannot run is left out. A fused dispatch of
 //! the three channels reads the geometry and evaluates the blocking once; separate dispatches
 //! are three parts that a device with three compute queues can overlap. All do the same
 //! arithmetic per channel in the same order, and on lavapipe give the same bits (tests/lpv.rs
@@ -37,6 +39,7 @@ use std::time::Instant;
 
 use super::technique::{
     ChannelPlan, Field, Kernel, Lpv, LpvSettings, column_shape, compensate_spirv,
+    shared_rows_possible,
     propagation_spirv,
 };
 use crate::gi::registry::Setup;
@@ -107,7 +110,12 @@ impl Choice {
 fn candidates(settings: &LpvSettings) -> Vec<(Kernel, ChannelPlan)> {
     let kernels = match settings.kernel {
         Some(kernel) => vec![kernel],
-        None => vec![Kernel::Tiled, Kernel::Column, Kernel::SingleColumn],
+        None => vec![
+            Kernel::Tiled,
+            Kernel::Column,
+            Kernel::SingleColumn,
+            Kernel::SharedRows,
+        ],
     };
     let plans = match settings.channels {
         Some(plan) => vec![plan],
@@ -265,10 +273,12 @@ fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
             crate::digest::fnv1a(step.iter().chain(compensate).copied(), h)
         });
     format!(
-        "{} | {} | {:?} | lattice {} | {} words | first step blocks {} | writes result {} | medium in step {} | compensates result {} | cell order {:?} | lookup {:?} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
+        "{} | {} | {:?} | shared rows possible {} | lattice {} | {} words | first step blocks {} | writes result {} | medium in step {} | compensates result {} | cell order {:?} | lookup {:?} | {candidates:?} | {spirv:016x} | {} | {TIMED}",
         info.name,
         info.driver,
         settings.scheme,
+        // A device may be made without the subgroup shuffles the shared rows need.
+        shared_rows_possible(setup.gpu),
         settings.lattice,
         settings.blocking_lobe.words_per_cell(),
         // Whether a frame's first step reads the geometry (its own pipeline where it does not).

@@ -188,15 +188,22 @@ pub enum Kernel {
     /// The column kernel with one column a thread: more cells read a column (ILPV 9, LPV 5),
     /// fewer to keep (on lavapipe, faster for some lattices: the autotune measures it).
     SingleColumn,
+    /// The single column whose threads share each row's cells across the subgroup: a thread
+    /// reads its own column's cell of a row and takes the cells at x ± 1 from the lanes beside
+    /// it, the subgroup's two ends from one read more (ILPV 4 cells read a plane instead of 9,
+    /// LPV 4 instead of 5). For CPU devices with subgroup shuffles, whose lanes lie along x
+    /// ([`shared_rows_fit`]).
+    SharedRows,
 }
 
 impl Kernel {
     /// Every kernel, in the order `--kernel` lists them.
-    pub const ALL: [Kernel; 4] = [
+    pub const ALL: [Kernel; 5] = [
         Kernel::Tiled,
         Kernel::Naive,
         Kernel::Column,
         Kernel::SingleColumn,
+        Kernel::SharedRows,
     ];
 
     /// Whether the kernel reads its source lattice, the geometry and the accumulation as texel
@@ -212,6 +219,7 @@ impl Kernel {
             Kernel::Naive => "naive",
             Kernel::Column => "column",
             Kernel::SingleColumn => "single-column",
+            Kernel::SharedRows => "shared-rows",
         }
     }
 
@@ -219,7 +227,7 @@ impl Kernel {
     pub fn column_bundle(self) -> Option<u32> {
         match self {
             Kernel::Column => Some(2),
-            Kernel::SingleColumn => Some(1),
+            Kernel::SingleColumn | Kernel::SharedRows => Some(1),
             Kernel::Tiled | Kernel::Naive => None,
         }
     }
@@ -585,11 +593,12 @@ pub fn column_cells(dims: [u32; 3], bundle: u32) -> u32 {
 /// workgroup or the split of a column makes the cached timings stale, as a change to their
 /// SPIR-V does.
 pub fn column_shape() -> String {
-    let bundles: Vec<String> = Kernel::ALL
+    let mut bundles: Vec<String> = Kernel::ALL
         .iter()
         .filter_map(|kernel| kernel.column_bundle())
         .map(|side| format!("{side}x{side}"))
         .collect();
+    bundles.dedup();
     format!(
         "column bundles {}, {COLUMN_THREADS} threads up to {COLUMN_GROUP_WIDEST} wide, {COLUMN_MIN_WORKGROUPS} workgroups at least",
         bundles.join(" and ")
@@ -684,7 +693,27 @@ pub fn propagation_spirv(scheme: Scheme, kernel: Kernel, plan: ChannelPlan) -> &
         (Scheme::Lpv, Kernel::Column | Kernel::SingleColumn, Fused) => {
             shaders::GI_LPV_LPV_COLUMN_RGB_COMP
         }
+        (Scheme::Ilpv, Kernel::SharedRows, Separate) => shaders::GI_LPV_ILPV_SHARED_ROWS_COMP,
+        (Scheme::Ilpv, Kernel::SharedRows, Fused) => shaders::GI_LPV_ILPV_SHARED_ROWS_RGB_COMP,
+        (Scheme::Lpv, Kernel::SharedRows, Separate) => shaders::GI_LPV_LPV_SHARED_ROWS_COMP,
+        (Scheme::Lpv, Kernel::SharedRows, Fused) => shaders::GI_LPV_LPV_SHARED_ROWS_RGB_COMP,
     }
+}
+
+/// Whether the shared-rows kernel's assumption holds for workgroups `group_x` invocations wide on
+/// `gpu`: a CPU device (lavapipe, whose subgroups are runs of consecutive
+/// invocations) with subgroup shuffles in compute shaders, subgroups of at least 8 lanes (an
+/// ILPV plane's 6 ends are read one a lane) and a whole number of them across the workgroup,
+/// so that each subgroup's lanes lie along one row in x.
+pub fn shared_rows_fit(gpu: &Gpu, group_x: u32) -> bool {
+    shared_rows_possible(gpu) && group_x.is_multiple_of(gpu.info.subgroup_size)
+}
+
+/// Whether `gpu` can run the shared-rows kernel with workgroups of some width
+/// ([`shared_rows_fit`] without the width).
+pub fn shared_rows_possible(gpu: &Gpu) -> bool {
+    let info = &gpu.info;
+    info.is_cpu() && info.compute_subgroup_shuffles && info.subgroup_size >= 8
 }
 
 /// The blend's bindings for channel `i` of a part: the lattice it writes, this frame's and last
@@ -1020,6 +1049,15 @@ impl Lpv {
             (_, Some(bundle)) => column_group(lattice.dims.to_array(), bundle),
             (_, None) => NAIVE_GROUP,
         };
+        if kernel == Kernel::SharedRows && !shared_rows_fit(gpu, tile[0]) {
+            anyhow::bail!(
+                "--kernel shared-rows needs a CPU device with subgroup shuffles in compute shaders and workgroups a whole number of subgroups wide (this device: {}, subgroups of {}, shuffles {}; workgroups {} wide)",
+                gpu.info.type_name(),
+                gpu.info.subgroup_size,
+                gpu.info.compute_subgroup_shuffles,
+                tile[0]
+            );
+        }
         let (inject_spirv, inject_spec, injection_kernel) =
             injection_kernel(gpu, settings.injection);
         // Cells a column kernel's thread walks (unused by the other kernels).
@@ -2064,9 +2102,13 @@ impl GiMethod for Lpv {
                 self.device_shared_bytes
             ),
             (_, Some(bundle)) => format!(
-                "{} ({} cells along z of {bundle}x{bundle} columns per thread, sources in registers and read as texels, workgroup {tx}x{ty})",
+                "{} ({} cells along z of {bundle}x{bundle} columns per thread, sources in registers and read as texels{}, workgroup {tx}x{ty})",
                 self.kernel.name(),
-                column_cells(d.to_array(), bundle)
+                column_cells(d.to_array(), bundle),
+                match self.kernel {
+                    Kernel::SharedRows => ", each row's cells shared across the subgroup's lanes",
+                    _ => "",
+                }
             ),
             (_, None) => format!("naive (global memory, workgroup {tx}x{ty}x{tz})"),
         };
