@@ -157,7 +157,7 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     // Every kernel does the same arithmetic per channel in the same order, whether a dispatch
     // carries one channel or three: the same bits, whichever runs.
     let mut first_kernel_results = std::collections::HashMap::new();
-    let kernels = Kernel::ALL;
+    let kernels = kernels_on(&gpu);
     let plans = [ChannelPlan::Separate, ChannelPlan::Fused];
     for scheme in [Scheme::Ilpv, Scheme::Lpv] {
         for (kernel, plan) in kernels.iter().flat_map(|&k| plans.map(|p| (k, p))) {
@@ -235,6 +235,42 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
     common::assert_no_validation_errors(&gpu);
 }
 
+/// Every kernel `gpu` runs: the shared rows where its subgroups lie along x.
+fn kernels_on(gpu: &vkgi::gpu::Gpu) -> Vec<Kernel> {
+    Kernel::ALL
+        .into_iter()
+        .filter(|&kernel| kernel != Kernel::SharedRows || shared_rows_possible(gpu))
+        .collect()
+}
+
+/// Propagates random lattices (seeds `seeds`) through random two-sided geometry on the GPU with
+/// `settings`, asserts each channel's accumulation within 1e-4 of the f64 reference's (`case`
+/// names the run) and returns the GPU's result.
+fn accumulate_random_lattices(
+    gpu: &vkgi::gpu::Gpu,
+    scene: &Scene,
+    settings: LpvSettings,
+    seeds: [u64; 4],
+    case: &str,
+) -> [Vec<[f32; 4]>; 3] {
+    let steps = settings.iterations as usize;
+    let mut lpv = Lpv::new(&Setup::new(gpu, scene), settings).unwrap();
+    let cells = lpv.lattice.cell_count();
+    let starts = [seeds[0], seeds[1], seeds[2]].map(|seed| random_lattice(cells, 1.0, seed));
+    let geometry = random_geometry(BlockingLobe::TwoSided, cells, 0.6, seeds[3]);
+    lpv.load_lattices(gpu, &starts.clone().map(|s| to_f32(&s)))
+        .unwrap();
+    lpv.load_geometry(gpu, &geometry).unwrap();
+    gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
+    let result = lpv.read_result(gpu).unwrap();
+    for c in 0..3 {
+        let (_, acc) = cpu_propagate(&lpv, &starts[c], &geometry, steps);
+        let error = relative_error(&result[c], &acc);
+        assert!(error < 1e-4, "{case} channel {c}: relative error {error:e}");
+    }
+    result
+}
+
 /// A frame's first step blocks nothing (the thesis), its own pipeline that reads no geometry;
 /// `--block-first-step` blocks it too. Either way every step gives the f64 reference's light,
 /// and the two differ where the geometry blocks.
@@ -242,36 +278,18 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
 fn the_first_step_blocks_only_with_block_first_step() {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
-    let steps = 3;
     for scheme in [Scheme::Ilpv, Scheme::Lpv] {
-        let mut results = Vec::new();
-        for first_step_unblocked in [true, false] {
+        let results = [true, false].map(|first_step_unblocked| {
             let settings = LpvSettings {
                 scheme,
                 lattice: 9,
-                iterations: steps as u32,
+                iterations: 3,
                 first_step_unblocked,
                 ..LpvSettings::default()
             };
-            let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
-            let cells = lpv.lattice.cell_count();
-            let starts = [7, 8, 9].map(|seed| random_lattice(cells, 1.0, seed));
-            let geometry = random_geometry(BlockingLobe::TwoSided, cells, 0.6, 3);
-            lpv.load_lattices(&gpu, &starts.clone().map(|s| to_f32(&s)))
-                .unwrap();
-            lpv.load_geometry(&gpu, &geometry).unwrap();
-            gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
-            let result = lpv.read_result(&gpu).unwrap();
-            for c in 0..3 {
-                let (_, acc) = cpu_propagate(&lpv, &starts[c], &geometry, steps);
-                let error = relative_error(&result[c], &acc);
-                assert!(
-                    error < 1e-4,
-                    "{scheme:?} first step unblocked {first_step_unblocked} channel {c}: relative error {error:e}"
-                );
-            }
-            results.push(result);
-        }
+            let case = format!("{scheme:?} first step unblocked {first_step_unblocked}");
+            accumulate_random_lattices(&gpu, &scene, settings, [7, 8, 9, 3], &case)
+        });
         assert!(
             results[0] != results[1],
             "{scheme:?}: the first step's blocking changed nothing"
@@ -292,7 +310,7 @@ fn a_step_whose_result_nothing_reads_accumulates_as_the_reference() {
     let plans = [ChannelPlan::Separate, ChannelPlan::Fused];
     for clamp_compensation in [true, false] {
         let mut first_result = None;
-        for (kernel, plan) in Kernel::ALL.iter().flat_map(|&k| plans.map(|p| (k, p))) {
+        for (kernel, plan) in kernels_on(&gpu).iter().flat_map(|&k| plans.map(|p| (k, p))) {
             let settings = LpvSettings {
                 lattice: 9,
                 iterations: 2,
@@ -305,23 +323,8 @@ fn a_step_whose_result_nothing_reads_accumulates_as_the_reference() {
                 extinction: vkgi::gi::lpv::Extinction::Physical,
                 ..LpvSettings::default()
             };
-            let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
-            let cells = lpv.lattice.cell_count();
-            let starts = [4, 5, 6].map(|seed| random_lattice(cells, 1.0, seed));
-            let geometry = random_geometry(BlockingLobe::TwoSided, cells, 0.6, 7);
-            lpv.load_lattices(&gpu, &starts.clone().map(|s| to_f32(&s)))
-                .unwrap();
-            lpv.load_geometry(&gpu, &geometry).unwrap();
-            gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
-            let result = lpv.read_result(&gpu).unwrap();
-            for c in 0..3 {
-                let (_, acc) = cpu_propagate(&lpv, &starts[c], &geometry, 2);
-                let error = relative_error(&result[c], &acc);
-                assert!(
-                    error < 1e-4,
-                    "{kernel:?} {plan:?} compensation {clamp_compensation} channel {c}: relative error {error:e}"
-                );
-            }
+            let case = format!("{kernel:?} {plan:?} compensation {clamp_compensation}");
+            let result = accumulate_random_lattices(&gpu, &scene, settings, [4, 5, 6, 7], &case);
             match &first_result {
                 None => first_result = Some(result),
                 Some(first) => assert!(
@@ -335,8 +338,8 @@ fn a_step_whose_result_nothing_reads_accumulates_as_the_reference() {
 }
 
 /// The column kernels' workgroups span a lattice's bundles along x (2x2 columns a thread: 16x4
-/// for 24 cells across, 32x2 for 40; one column a thread: 32x2 for both): the same bits as the
-/// tiled kernel, whose workgroups are tiles, with the cells in the buffers in rows and in
+/// for 24 cells across, 32x2 for 40; one column a thread, and the shared rows: 32x2 for both):
+/// the same bits as the tiled kernel, whose workgroups are tiles, with the cells in the buffers in rows and in
 /// columns.
 #[test]
 fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
@@ -347,28 +350,39 @@ fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
         .flat_map(|s| [CellOrder::Rows, CellOrder::Columns].map(|o| (s, o)))
     {
         for lattice in [24, 40] {
-            let results = [Kernel::Tiled, Kernel::Column, Kernel::SingleColumn].map(|kernel| {
-                let settings = LpvSettings {
-                    scheme,
-                    lattice,
-                    iterations: 3,
-                    kernel: Some(kernel),
-                    channels: Some(ChannelPlan::Fused),
-                    cell_order: Some(order),
-                    lookup_filter: Some(LookupFilter::Texels),
-                    ..LpvSettings::default()
-                };
-                let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
-                let cells = lpv.lattice.cell_count();
-                let starts = [1, 2, 3].map(|seed| to_f32(&random_lattice(cells, 1.0, seed)));
-                let lobe = BlockingLobe::TwoSided;
-                lpv.load_lattices(&gpu, &starts).unwrap();
-                lpv.load_geometry(&gpu, &random_geometry(lobe, cells, 0.6, 9))
-                    .unwrap();
-                gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
-                (lpv.lattice.dims, lpv.read_result(&gpu).unwrap())
-            });
-            let [(dims, tiled), (_, column), (_, single)] = results;
+            let kernels = [
+                Kernel::Tiled,
+                Kernel::Column,
+                Kernel::SingleColumn,
+                Kernel::SharedRows,
+            ];
+            let results: Vec<_> = kernels_on(&gpu)
+                .into_iter()
+                .filter(|kernel| kernels.contains(kernel))
+                .map(|kernel| {
+                    let settings = LpvSettings {
+                        scheme,
+                        lattice,
+                        iterations: 3,
+                        kernel: Some(kernel),
+                        channels: Some(ChannelPlan::Fused),
+                        cell_order: Some(order),
+                        lookup_filter: Some(LookupFilter::Texels),
+                        ..LpvSettings::default()
+                    };
+                    let mut lpv = Lpv::new(&Setup::new(&gpu, &scene), settings).unwrap();
+                    let cells = lpv.lattice.cell_count();
+                    let starts = [1, 2, 3].map(|seed| to_f32(&random_lattice(cells, 1.0, seed)));
+                    let lobe = BlockingLobe::TwoSided;
+                    lpv.load_lattices(&gpu, &starts).unwrap();
+                    lpv.load_geometry(&gpu, &random_geometry(lobe, cells, 0.6, 9))
+                        .unwrap();
+                    gpu.one_shot(|rec| lpv.record_propagation(rec)).unwrap();
+                    (lpv.lattice.dims, lpv.read_result(&gpu).unwrap())
+                })
+                .collect();
+            let (dims, tiled) = &results[0];
+            let [(_, column), (_, single)] = [&results[1], &results[2]];
             assert!(dims.x >= 24, "{scheme:?} {lattice}: {dims}");
             // Here each single-column thread walks its whole column (and skips the planes past
             // the lattice), at 40 each 2x2 bundle's thread too; the 9-cell lattice of the test
@@ -385,6 +399,14 @@ fn column_kernels_in_workgroups_wider_than_8x8_give_the_tiled_kernels_bits() {
                 tiled == single,
                 "{scheme:?} {order:?} {dims}: the single-column kernel's bits differ"
             );
+            // The shared rows in whole subgroups (the 9-cell lattice above has a subgroup that
+            // runs past the lattice in x).
+            if let Some((_, shared)) = results.get(3) {
+                assert!(
+                    tiled == shared,
+                    "{scheme:?} {order:?} {dims}: the shared-rows kernel's bits differ"
+                );
+            }
         }
     }
     common::assert_no_validation_errors(&gpu);
