@@ -342,7 +342,6 @@ pub fn run(
     })
 }
 
-/// The median time of one run of `method`'s core pass `pass` in `report` (0 if it never ran).
 /// The median time of one run of `method`'s core pass `core` in `report`, a frame's first run
 /// left out where it is held to an ideal of its own (0 if it never ran).
 pub fn core_pass_median(report: &ProfileReport, method: &str, core: &CorePass) -> f64 {

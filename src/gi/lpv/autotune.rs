@@ -43,6 +43,7 @@ use super::technique::{
     propagation_spirv,
 };
 use crate::gi::registry::Setup;
+use crate::gpu::Gpu;
 
 /// Measured propagations of each contending candidate, each right after an unmeasured one of
 /// the same candidate; the fastest counts. Every candidate runs once; the other runs go to those
@@ -106,16 +107,20 @@ impl Choice {
     }
 }
 
-/// The kernels and plans `settings` leave to the autotune (all of them unless pinned).
-fn candidates(settings: &LpvSettings) -> Vec<(Kernel, ChannelPlan)> {
+/// The kernels and plans `settings` leave to the autotune on `gpu` (all those it can run unless
+/// pinned).
+fn candidates(gpu: &Gpu, settings: &LpvSettings) -> Vec<(Kernel, ChannelPlan)> {
     let kernels = match settings.kernel {
         Some(kernel) => vec![kernel],
-        None => vec![
+        None => [
             Kernel::Tiled,
             Kernel::Column,
             Kernel::SingleColumn,
             Kernel::SharedRows,
-        ],
+        ]
+        .into_iter()
+        .filter(|&kernel| kernel != Kernel::SharedRows || shared_rows_possible(gpu))
+        .collect(),
     };
     let plans = match settings.channels {
         Some(plan) => vec![plan],
@@ -183,7 +188,7 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     // A candidate that cannot be built on this device (or for this lattice) is none.
     let mut built: Vec<(Timing, Lpv)> = Vec::new();
     let mut refused = None;
-    for (kernel, plan) in candidates(settings) {
+    for (kernel, plan) in candidates(setup.gpu, settings) {
         match probe(kernel, plan) {
             Ok(lpv) => built.push((
                 Timing {
@@ -264,7 +269,7 @@ fn probe_steps(settings: &LpvSettings) -> u32 {
 
 fn cache_key(setup: &Setup, settings: &LpvSettings) -> String {
     let info = &setup.gpu.info;
-    let candidates = candidates(settings);
+    let candidates = candidates(setup.gpu, settings);
     let spirv = candidates
         .iter()
         .fold(crate::digest::FNV_OFFSET, |h, &(kernel, plan)| {

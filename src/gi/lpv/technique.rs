@@ -709,6 +709,31 @@ pub fn shared_rows_fit(gpu: &Gpu, group_x: u32) -> bool {
     shared_rows_possible(gpu) && group_x.is_multiple_of(gpu.info.subgroup_size)
 }
 
+/// `kernel` where it can run on `gpu` for `lattice`. The shared rows need workgroups a whole
+/// number of subgroups wide ([`shared_rows_fit`]): pinned (`pinned`, `--kernel shared-rows`)
+/// where they are not, an error; chosen by the autotune (whose cache holds a lattice size, not
+/// a scene's lattice), the single column, which gives the same bits.
+fn shared_rows_or_single_column(
+    gpu: &Gpu,
+    kernel: Kernel,
+    pinned: Option<Kernel>,
+    lattice: &Lattice,
+) -> anyhow::Result<Kernel> {
+    let width = column_group(lattice.dims.to_array(), 1)[0];
+    if kernel != Kernel::SharedRows || shared_rows_fit(gpu, width) {
+        return Ok(kernel);
+    }
+    match pinned {
+        Some(_) => anyhow::bail!(
+            "--kernel shared-rows needs a CPU device with subgroup shuffles in compute shaders, and workgroups a whole number of subgroups wide (this device: {}, subgroups of {}, shuffles {}; this lattice's workgroups {width} wide)",
+            gpu.info.type_name(),
+            gpu.info.subgroup_size,
+            gpu.info.compute_subgroup_shuffles,
+        ),
+        None => Ok(Kernel::SingleColumn),
+    }
+}
+
 /// Whether `gpu` can run the shared-rows kernel with workgroups of some width
 /// ([`shared_rows_fit`] without the width).
 pub fn shared_rows_possible(gpu: &Gpu) -> bool {
@@ -993,6 +1018,7 @@ impl Lpv {
         };
         let channels = plan.channels();
         let lattice = Lattice::fit(scene.bounds_min, scene.bounds_max, settings.lattice)?;
+        let kernel = shared_rows_or_single_column(gpu, kernel, settings.kernel, &lattice)?;
         let cells = lattice.cell_count();
         // The largest buffer: the geometry lattice (16 bytes per word, up to 4 words per cell)
         // or the fixed-point injection's sums (4 coefficients of 8 bytes per cell).
@@ -1049,15 +1075,6 @@ impl Lpv {
             (_, Some(bundle)) => column_group(lattice.dims.to_array(), bundle),
             (_, None) => NAIVE_GROUP,
         };
-        if kernel == Kernel::SharedRows && !shared_rows_fit(gpu, tile[0]) {
-            anyhow::bail!(
-                "--kernel shared-rows needs a CPU device with subgroup shuffles in compute shaders and workgroups a whole number of subgroups wide (this device: {}, subgroups of {}, shuffles {}; workgroups {} wide)",
-                gpu.info.type_name(),
-                gpu.info.subgroup_size,
-                gpu.info.compute_subgroup_shuffles,
-                tile[0]
-            );
-        }
         let (inject_spirv, inject_spec, injection_kernel) =
             injection_kernel(gpu, settings.injection);
         // Cells a column kernel's thread walks (unused by the other kernels).
