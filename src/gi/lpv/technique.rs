@@ -724,12 +724,13 @@ fn shared_rows_or_single_column(
         return Ok(kernel);
     }
     match pinned {
-        Some(_) => anyhow::bail!(
+        Some(_) => Err(InputError::new(format!(
             "--kernel shared-rows needs a CPU device with subgroup shuffles in compute shaders, and workgroups a whole number of subgroups wide (this device: {}, subgroups of {}, shuffles {}; this lattice's workgroups {width} wide)",
             gpu.info.type_name(),
             gpu.info.subgroup_size,
             gpu.info.compute_subgroup_shuffles,
-        ),
+        ))
+        .into()),
         None => Ok(Kernel::SingleColumn),
     }
 }
