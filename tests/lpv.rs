@@ -239,7 +239,7 @@ fn gpu_propagation_equals_the_f64_cpu_implementation() {
 fn kernels_on(gpu: &vkgi::gpu::Gpu) -> Vec<Kernel> {
     Kernel::ALL
         .into_iter()
-        .filter(|&kernel| kernel != Kernel::SharedRows || shared_rows_possible(gpu))
+        .filter(|kernel| kernel.runs_on(gpu))
         .collect()
 }
 

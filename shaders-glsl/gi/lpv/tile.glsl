@@ -111,39 +111,6 @@ bool own_column(int dx, int dy) {
     return dx >= 0 && dx < BUNDLE && dy >= 0 && dy < BUNDLE;
 }
 
-// Of the plane z = origin.z + dz around the bundle whose first column is at `origin`, the
-// bundle's own columns (`own`) and the cells around them (`around`) into their slots (zero
-// outside); with COLUMN_FACES_ONLY never the square's 4 corners, which a face-neighbour step
-// does not read. Slots not asked for keep what they hold.
-void load_cells(ivec3 origin, int dz, bool own, bool around) {
-    [[unroll]] for (int dy = -1; dy <= BUNDLE; ++dy) {
-        [[unroll]] for (int dx = -1; dx <= BUNDLE; ++dx) {
-            // Constants once unrolled: the cells not wanted are neither loaded nor written.
-            bool corner = (dx == -1 || dx == BUNDLE) && (dy == -1 || dy == BUNDLE);
-            bool asked = own_column(dx, dy) ? own : around;
-            if (!asked || (COLUMN_FACES_ONLY != 0 && corner)) continue;
-            ivec3 c = origin + ivec3(dx, dy, dz);
-            bool inside = lattice_inside(c, pc.dims.xyz);
-            uint k = inside ? lattice_index(c, pc.dims.xyz) : 0u;
-            uint slot = block_slot(ivec3(dx, dy, dz));
-            [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) {
-                column_light[slot * CHANNELS + ch] = inside ? stored_light(k, ch) : vec4(0.0);
-            }
-            column_geometry[slot] = stored_cell_geometry(k, inside);
-        }
-    }
-}
-
-#if COLUMN_SHARED_ROWS
-// Shared rows (`--kernel shared-rows`: one column a thread, BUNDLE 1): a thread reads its own
-// column's cell of each row it needs and takes the cells at x - 1 and x + 1 from the lanes
-// beside it; the subgroup's two ends come from one more read, lane j reading the j-th end (the
-// left end of row j / 2 where j is even, its right end where j is odd). src/gi/lpv/technique.rs
-// allows the kernel where the lanes lie along x as this assumes: a CPU device, whose subgroups
-// are runs of consecutive invocations, and workgroups whose width is a whole number of them.
-#extension GL_KHR_shader_subgroup_basic : require
-#extension GL_KHR_shader_subgroup_shuffle : require
-
 // What a step reads of one cell.
 struct CellWords {
     vec4 light[CHANNELS];
@@ -168,6 +135,33 @@ void put_cell(ivec3 offset, CellWords w) {
     [[unroll]] for (int ch = 0; ch < CHANNELS; ++ch) column_light[slot * CHANNELS + ch] = w.light[ch];
     column_geometry[slot] = w.geometry;
 }
+
+// Of the plane z = origin.z + dz around the bundle whose first column is at `origin`, the
+// bundle's own columns (`own`) and the cells around them (`around`) into their slots (zero
+// outside); with COLUMN_FACES_ONLY never the square's 4 corners, which a face-neighbour step
+// does not read. Slots not asked for keep what they hold.
+void load_cells(ivec3 origin, int dz, bool own, bool around) {
+    [[unroll]] for (int dy = -1; dy <= BUNDLE; ++dy) {
+        [[unroll]] for (int dx = -1; dx <= BUNDLE; ++dx) {
+            // Constants once unrolled: the cells not wanted are neither loaded nor written.
+            bool corner = (dx == -1 || dx == BUNDLE) && (dy == -1 || dy == BUNDLE);
+            bool asked = own_column(dx, dy) ? own : around;
+            if (!asked || (COLUMN_FACES_ONLY != 0 && corner)) continue;
+            ivec3 offset = ivec3(dx, dy, dz);
+            put_cell(offset, read_cell(origin + offset, true));
+        }
+    }
+}
+
+#if COLUMN_SHARED_ROWS
+// Shared rows (`--kernel shared-rows`: one column a thread, BUNDLE 1): a thread reads its own
+// column's cell of each row it needs and takes the cells at x - 1 and x + 1 from the lanes
+// beside it; the subgroup's two ends come from one more read, lane j reading the j-th end (the
+// left end of row j / 2 where j is even, its right end where j is odd). src/gi/lpv/technique.rs
+// allows the kernel where the lanes lie along x as this assumes: a CPU device, whose subgroups
+// are runs of consecutive invocations, and workgroups whose width is a whole number of them.
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_shuffle : require
 
 // The ends of `rows` rows from dy = `first_dy` of plane dz around the column at `origin`: this
 // lane's one, if any.

@@ -119,7 +119,7 @@ fn candidates(gpu: &Gpu, settings: &LpvSettings) -> Vec<(Kernel, ChannelPlan)> {
             Kernel::SharedRows,
         ]
         .into_iter()
-        .filter(|&kernel| kernel != Kernel::SharedRows || shared_rows_possible(gpu))
+        .filter(|kernel| kernel.runs_on(gpu))
         .collect(),
     };
     let plans = match settings.channels {

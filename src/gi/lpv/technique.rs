@@ -223,6 +223,12 @@ impl Kernel {
         }
     }
 
+    /// Whether `gpu` can run the kernel with workgroups of some width (the shared rows where
+    /// [`shared_rows_possible`]; every other kernel anywhere).
+    pub fn runs_on(self, gpu: &Gpu) -> bool {
+        self != Kernel::SharedRows || shared_rows_possible(gpu)
+    }
+
     /// The side of the square bundle of columns a thread of a column kernel walks.
     pub fn column_bundle(self) -> Option<u32> {
         match self {
