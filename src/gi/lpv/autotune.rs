@@ -19,8 +19,9 @@
 //! lookup's filter, which decides whether its cells may lie in columns) a
 //! process builds on a device times a short propagation of every colour channel with each
 //! candidate (kernel and plan; alternating, each measured run right after an unmeasured one of
-//! its own: one run each, then [`RUNS`] - 1 more of the candidates whose first run came within
-//! [`CONTENDING`] of the fastest first run, each timed by its fastest run) and takes the fastest;
+//! its own: [`SIFTING_RUNS`] runs each, then the rest of [`RUNS`] for the candidates whose
+//! fastest of those came within [`CONTENDING`] of the fastest candidate's, each timed by its
+//! fastest run) and takes the fastest;
 //! a candidate that cannot be built there
 //! (no tile fits the shared memory, say) is none. The measurement records the three channels in one command buffer on one queue, so it
 //! does not see separate channels overlap on a device with a compute queue each (pin
@@ -43,23 +44,27 @@ use super::technique::{
     propagation_spirv,
 };
 use crate::gi::registry::Setup;
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, GpuResult};
 
 /// Measured propagations of each contending candidate, each right after an unmeasured one of
-/// the same candidate; the fastest counts. Every candidate runs once; the other runs go to those
-/// whose first run came within [`CONTENDING`] of the fastest first run, so that a slower minute
-/// of the machine (which only adds time) must last through all six runs of the fastest to
-/// turn the choice.
+/// the same candidate; the fastest counts. Every candidate runs [`SIFTING_RUNS`] times; the
+/// other runs go to those whose fastest of them came within [`CONTENDING`] of the fastest
+/// candidate's, so that a slower minute of the machine (which only adds time) must last
+/// through all six runs of the fastest to turn the choice.
 const RUNS: usize = 6;
-/// How much slower than the fastest first run a candidate's first run may be for it to run
-/// again.
+/// Runs every candidate takes before the slow ones stop: two, so that one run slowed by the
+/// machine does not drop a candidate (one run each dropped the shared rows, ILPV's fastest
+/// kernel at 32³ on lavapipe, in one fresh autotune of four: 1.94 ms against 1.11-1.13).
+const SIFTING_RUNS: usize = 2;
+/// How much slower than the fastest candidate's sifting runs a candidate's may be for it to
+/// run again.
 const CONTENDING: f64 = 1.5;
 /// Steps of each measured propagation.
 const STEPS: u32 = 2;
 /// How the cached timings were taken, in the cache's key: entries timed otherwise (per step
 /// given, where a lattice records fewer; the column kernel in workgroups of 8x8 whatever the
 /// lattice; runs not warmed by one of their own) are measured again.
-const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own, cells in columns where a CPU's kernel walks whole columns, fastest of 6 runs of the candidates within 1.5x after one";
+const TIMED: &str = "ms per step recorded, column workgroups as wide as the lattice, each run warmed by one of its own, cells in columns where a CPU's kernel walks whole columns, fastest of 6 runs of the candidates within 1.5x after two";
 
 /// A kernel and plan the autotune measured, and its time.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -208,26 +213,18 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     // Each measured run follows an unmeasured one of the same candidate, so that it finds its
     // lattices in the caches as a frame's steps do, not evicted by the other candidates' runs
     // (which, alternating six candidates on lavapipe, ranked LPV's 32³ kernels the wrong way).
-    // Every candidate runs once; those whose first run came within CONTENDING of the fastest
-    // first run run RUNS - 1 more times.
-    let mut fastest_first = f64::INFINITY;
-    for run in 0..RUNS {
-        for (timing, lpv) in &mut built {
-            if run > 0 && !contends(timing.ms, fastest_first) {
-                continue;
-            }
-            setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
-            let start = Instant::now();
-            setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
-            // A lattice may record fewer steps than it is given (ILPV's last step at λ_incr
-            // 0, whose light nothing reads): the time is per step recorded.
-            let steps = lpv.settings.steps_run().max(1) as f64;
-            let ms = start.elapsed().as_secs_f64() * 1e3 / steps;
-            timing.ms = timing.ms.min(ms);
-        }
-        if run == 0 {
-            fastest_first = built.iter().map(|(t, _)| t.ms).fold(f64::INFINITY, f64::min);
-        }
+    let fastest = fastest_runs(built.len(), |candidate| {
+        let lpv = &mut built[candidate].1;
+        setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
+        let start = Instant::now();
+        setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
+        // A lattice may record fewer steps than it is given (ILPV's last step at λ_incr 0,
+        // whose light nothing reads): the time is per step recorded.
+        let steps = lpv.settings.steps_run().max(1) as f64;
+        Ok(start.elapsed().as_secs_f64() * 1e3 / steps)
+    })?;
+    for ((timing, _), ms) in built.iter_mut().zip(fastest) {
+        timing.ms = ms;
     }
     let timings: Vec<Timing> = built.into_iter().map(|(timing, _)| timing).collect();
     let fastest = timings
@@ -243,7 +240,31 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     })
 }
 
-/// Whether a candidate whose first run took `ms` runs again, the fastest first run `fastest`.
+/// The fastest run of each of `candidates`, timed by `run` (the candidate's index to its time):
+/// the candidates take turns; every one runs [`SIFTING_RUNS`] times, then those that
+/// [`contends`] with the fastest of those run until each has run [`RUNS`] times.
+fn fastest_runs(
+    candidates: usize,
+    mut run: impl FnMut(usize) -> GpuResult<f64>,
+) -> GpuResult<Vec<f64>> {
+    let mut fastest = vec![f64::INFINITY; candidates];
+    let mut fastest_sifted = f64::INFINITY;
+    for round in 0..RUNS {
+        for candidate in 0..candidates {
+            if round >= SIFTING_RUNS && !contends(fastest[candidate], fastest_sifted) {
+                continue;
+            }
+            fastest[candidate] = fastest[candidate].min(run(candidate)?);
+        }
+        if round + 1 == SIFTING_RUNS {
+            fastest_sifted = fastest.iter().copied().fold(f64::INFINITY, f64::min);
+        }
+    }
+    Ok(fastest)
+}
+
+/// Whether a candidate whose sifting runs took `ms` at best runs again, the fastest
+/// candidate's `fastest`.
 fn contends(ms: f64, fastest: f64) -> bool {
     ms <= CONTENDING * fastest
 }
@@ -344,6 +365,22 @@ mod tests {
         assert!(contends(1.5, 1.0));
         assert!(!contends(1.51, 1.0));
         assert!(!contends(8.4, 1.4));
+    }
+
+    #[test]
+    fn one_slow_run_does_not_drop_a_candidate() {
+        // Candidate 1 is the fastest, but its first run is slowed past 1.5x of candidate 0's.
+        let times = [vec![1.0; RUNS], vec![2.0, 0.8, 0.8, 0.8, 0.8, 0.8], vec![4.0; RUNS]];
+        let mut runs = [0; 3];
+        let fastest = fastest_runs(3, |candidate| {
+            let time = times[candidate][runs[candidate]];
+            runs[candidate] += 1;
+            Ok(time)
+        })
+        .unwrap();
+        assert_eq!(fastest, [1.0, 0.8, 4.0]);
+        // The slow candidate stops after its sifting runs; the contenders run every time.
+        assert_eq!(runs, [RUNS, RUNS, SIFTING_RUNS]);
     }
 
     #[test]
