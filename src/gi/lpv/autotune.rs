@@ -250,11 +250,11 @@ fn fastest_runs(
     let mut fastest = vec![f64::INFINITY; candidates];
     let mut fastest_sifted = f64::INFINITY;
     for round in 0..RUNS {
-        for candidate in 0..candidates {
-            if round >= SIFTING_RUNS && !contends(fastest[candidate], fastest_sifted) {
+        for (candidate, best) in fastest.iter_mut().enumerate() {
+            if round >= SIFTING_RUNS && !contends(*best, fastest_sifted) {
                 continue;
             }
-            fastest[candidate] = fastest[candidate].min(run(candidate)?);
+            *best = best.min(run(candidate)?);
         }
         if round + 1 == SIFTING_RUNS {
             fastest_sifted = fastest.iter().copied().fold(f64::INFINITY, f64::min);
