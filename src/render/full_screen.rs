@@ -1,7 +1,7 @@
 //! Per-pixel passes as fragment shaders over one full-screen triangle
 //! (shaders-glsl/common/fullscreen.vert), each writing or adding to one render target. On
 //! lavapipe a render target's write (and its blend) costs a fraction of a compute pass's
-//! imageStore (and imageLoad) of the same pixel: docs/performance.md, "Per-pixel passes".
+//! imageStore (and imageLoad) of the same pixel: docs/performance.md, "Writing shaders for lavapipe".
 
 use ash::vk;
 
