@@ -607,6 +607,68 @@ pub fn run_command(args: &ProfileCommandArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gpu::PassTiming;
+
+    /// A profile of `method`'s "propagate" whose step `s` (from 1) took `per_step[s - 1]` ns
+    /// in each of three frames.
+    fn steps_report(method: &'static str, per_step: &[f64]) -> ProfileReport {
+        let passes = per_step
+            .iter()
+            .enumerate()
+            .map(|(s, &ns)| PassTiming {
+                name: format!("propagate step {}", s + 1),
+                tag: ScopeTag {
+                    method: Some(method),
+                    stage: Stage::GiPart,
+                    pass: "propagate",
+                    step: Some(s as u32 + 1),
+                    ..ScopeTag::default()
+                },
+                samples: 3,
+                per_frame_ns: vec![ns; 3],
+                avg_ns: ns,
+                median_ns: ns,
+                min_ns: ns,
+                max_ns: ns,
+                percent_of_frame: 0.0,
+            })
+            .collect();
+        ProfileReport {
+            device: String::new(),
+            frames: 3,
+            dropped_scopes: 0,
+            passes,
+            frame: None,
+            notes: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_core_median_leaves_the_first_step_out_where_it_does_less() {
+        let cost = UnitCost {
+            bytes: 64.0,
+            flops: 500.0,
+        };
+        let core = |first_run| CorePass {
+            pass: "propagate",
+            unit: "cell-channel",
+            units: 1,
+            cost,
+            first_run,
+        };
+        // A first step far faster than the rest, then four steps of 10 and 20 ns.
+        let report = steps_report("lpv", &[1.0, 10.0, 10.0, 20.0, 20.0]);
+        let lighter = Some(UnitCost {
+            bytes: 48.0,
+            ..cost
+        });
+        // Without step 1: the median of 12 samples, six of 10 and six of 20.
+        assert_eq!(core_pass_median(&report, "lpv", &core(lighter)), 15.0);
+        // With it: fifteen samples, the eighth of them 10.
+        assert_eq!(core_pass_median(&report, "lpv", &core(None)), 10.0);
+        // Another method's passes are not this one's.
+        assert_eq!(core_pass_median(&report, "ilpv", &core(None)), 0.0);
+    }
 
     #[test]
     fn exponent_of_a_power_law_is_recovered() {
