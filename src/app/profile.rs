@@ -13,7 +13,7 @@ use crate::gi::registry::{self, MethodEntry, Setup};
 use crate::gi::settings::Settings;
 use crate::gi::{CorePass, PixelPass, UnitCost};
 use crate::gpu::profiler::summarize;
-use crate::gpu::{Gpu, ProfileReport, ScopeTag, Stage};
+use crate::gpu::{Gpu, PassTiming, ProfileReport, ScopeTag, Stage};
 use crate::render::passes::{DIRECT_LIGHTING, MaterialTerms};
 use crate::render::runner::run_frames;
 use crate::render::{Frame, FrameOptions, SubmitPlan, cost};
@@ -345,14 +345,13 @@ pub fn run(
 /// The median time of one run of `method`'s core pass `core` in `report`, a frame's first run
 /// left out where it is held to an ideal of its own (0 if it never ran).
 pub fn core_pass_median(report: &ProfileReport, method: &str, core: &CorePass) -> f64 {
-    let times: Vec<f64> = report
-        .passes
-        .iter()
-        .filter(|p| p.tag.method == Some(method) && p.tag.pass == core.pass)
-        .filter(|p| core.first_run.is_none() || !is_first_run(core, &p.tag))
-        .flat_map(|p| p.per_frame_ns.iter().copied())
-        .collect();
-    summarize("core", times.len(), times).median_ns
+    median_of(
+        report
+            .passes
+            .iter()
+            .filter(|p| p.tag.method == Some(method) && p.tag.pass == core.pass)
+            .filter(|p| core.first_run.is_none() || !is_first_run(core, &p.tag)),
+    )
 }
 
 /// Whether the pass tagged `tag` is a frame's first run of `core` (its first step).
@@ -363,10 +362,17 @@ fn is_first_run(core: &CorePass, tag: &ScopeTag) -> bool {
 /// The median time of one run of pass `pass` of `owner` (None: the frame) in `report` (0 if
 /// it never ran).
 fn pass_median(report: &ProfileReport, owner: Option<&str>, pass: &str) -> f64 {
-    let times: Vec<f64> = report
-        .passes
-        .iter()
-        .filter(|p| p.tag.method == owner && p.tag.pass == pass)
+    median_of(
+        report
+            .passes
+            .iter()
+            .filter(|p| p.tag.method == owner && p.tag.pass == pass),
+    )
+}
+
+/// The median of every per-frame time of `passes` (0 if there is none).
+fn median_of<'a>(passes: impl Iterator<Item = &'a PassTiming>) -> f64 {
+    let times: Vec<f64> = passes
         .flat_map(|p| p.per_frame_ns.iter().copied())
         .collect();
     summarize("core", times.len(), times).median_ns
@@ -607,7 +613,6 @@ pub fn run_command(args: &ProfileCommandArgs) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::gpu::PassTiming;
 
     /// A profile of `method`'s "propagate" whose step `s` (from 1) took `per_step[s - 1]` ns
     /// in each of three frames.
