@@ -133,6 +133,30 @@ fn report_with_zero_frames_is_refused() {
 }
 
 #[test]
+fn frame_counts_that_would_run_for_days_are_refused() {
+    // Each measured frame keeps its passes' times until the run ends: four billion of them
+    // ran until memory was gone. Refused before any GPU work, with the range in the line (a
+    // missing scene after the count: were the count taken, the line would name the scene).
+    let dir = scratch("frame-counts");
+    let out_dir = dir.to_str().unwrap();
+    for (command, flag) in [
+        ("render", "--frames"),
+        ("report", "--frames"),
+        ("profile", "--frames"),
+        ("profile", "--warmup"),
+    ] {
+        for count in ["4000000000", "100001"] {
+            let mut args = vec![command, flag, count, "--scene", "/nonexistent/scene.obj"];
+            if command == "report" {
+                args.extend(["--out-dir", out_dir]);
+            }
+            assert_bad_input(&vkgi(&args), &format!("{flag} <"));
+            assert_bad_input(&vkgi(&args), "..=100000");
+        }
+    }
+}
+
+#[test]
 fn a_camera_position_with_four_elements_is_refused() {
     let camera = "[camera]\nposition = [0, 2, 3, 4]\ntarget = [0, 0, 0]\nfov = 50\n";
     let (_, scene) = scene_with("camera4", POINT, camera, "1");

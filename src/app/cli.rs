@@ -10,6 +10,11 @@ use crate::gi::registry;
 use crate::gpu::GpuOptions;
 use crate::render::{FrameOptions, SubmitPlan};
 
+/// The most frames `render`, `report` and `profile` run a configuration for (measured, and
+/// warm-up apart): each measured frame keeps its passes' times until the run ends, and more
+/// frames than this take hours without a steadier result.
+const MAX_FRAMES: u32 = 100_000;
+
 #[derive(Parser, Debug)]
 #[command(
     name = "vkgi",
@@ -173,9 +178,9 @@ pub struct RenderArgs {
     /// Linear radiance as 32-bit float OpenEXR.
     #[arg(long, value_name = "FILE")]
     pub hdr: Option<PathBuf>,
-    /// Frames to render (default: as many as the method needs to settle, e.g. until an
-    /// incremental method's old light weighs less than 1%).
-    #[arg(long, allow_negative_numbers = true)]
+    /// Frames to render, 1 to 100000 (default: as many as the method needs to settle, e.g.
+    /// until an incremental method's old light weighs less than 1%).
+    #[arg(long, allow_negative_numbers = true, value_parser = frame_count(1))]
     pub frames: Option<u32>,
     #[command(flatten)]
     pub gi: GiArgs,
@@ -442,11 +447,11 @@ pub struct ProfileCommandArgs {
     /// Methods to profile, comma-separated (default: every registered method).
     #[arg(long, value_delimiter = ',', value_parser = method_parser(), ignore_case = true)]
     pub method: Vec<String>,
-    /// Measured frames per configuration.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 10)]
+    /// Measured frames per configuration, 1 to 100000.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10, value_parser = frame_count(1))]
     pub frames: u32,
-    /// Frames run before measuring.
-    #[arg(long, allow_negative_numbers = true, default_value_t = 2)]
+    /// Frames run before measuring, 0 to 100000.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2, value_parser = frame_count(0))]
     pub warmup: u32,
     /// Image size as WIDTHxHEIGHT (the lookup and raster passes scale with it).
     #[arg(long, default_value = "320x240", value_parser = parse_size, allow_hyphen_values = true)]
@@ -489,8 +494,8 @@ pub struct ReportArgs {
     /// among them).
     #[arg(long, value_delimiter = ',', value_parser = method_parser(), ignore_case = true)]
     pub method: Vec<String>,
-    /// Frames per run (default: as many as each configuration needs to settle).
-    #[arg(long, allow_negative_numbers = true)]
+    /// Frames per run, 1 to 100000 (default: as many as each configuration needs to settle).
+    #[arg(long, allow_negative_numbers = true, value_parser = frame_count(1))]
     pub frames: Option<u32>,
     /// Method settings as comma-separated lists: the grid is every combination (settings not
     /// given take the values the method sweeps by default, or its default).
@@ -631,6 +636,11 @@ pub fn parse_vec3(text: &str) -> Result<glam::Vec3, String> {
         [x, y, z] if parts.iter().all(|v| v.is_finite()) => Ok(glam::Vec3::new(x, y, z)),
         _ => Err(format!("'{text}' is not X,Y,Z with three finite numbers")),
     }
+}
+
+/// A frame count from `least` to [`MAX_FRAMES`].
+fn frame_count(least: i64) -> clap::builder::RangedI64ValueParser<u32> {
+    clap::value_parser!(u32).range(least..=i64::from(MAX_FRAMES))
 }
 
 #[cfg(test)]

@@ -581,9 +581,6 @@ impl ProfileResult {
 
 /// `vkgi profile`.
 pub fn run_command(args: &ProfileCommandArgs) -> anyhow::Result<()> {
-    if args.frames == 0 {
-        crate::bad_input!("--frames must be at least 1");
-    }
     let config = ProfileConfig {
         scene: args.scene.clone(),
         methods: args.method.clone(),

@@ -29,7 +29,6 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     let frames = match args.frames {
-        Some(0) => crate::bad_input!("--frames must be at least 1"),
         Some(n) => n,
         None => chosen
             .as_ref()

@@ -644,9 +644,6 @@ pub fn run_command(args: &ReportArgs) -> anyhow::Result<()> {
     if args.spp == 0 {
         crate::bad_input!("--spp must be at least 1");
     }
-    if args.frames == Some(0) {
-        crate::bad_input!("--frames must be at least 1");
-    }
     let config = ReportConfig {
         scene: args.scene.clone(),
         out_dir: args.out_dir.clone(),
