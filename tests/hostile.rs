@@ -135,7 +135,7 @@ fn report_with_zero_frames_is_refused() {
 #[test]
 fn frame_counts_that_would_run_for_days_are_refused() {
     // Each measured frame keeps its passes' times until the run ends: four billion of them
-    // ran until memory was gone. Refused before any GPU work, with the range in the line (a
+    // were taken, to run for months with their samples growing. Refused before any GPU work, with the range in the line (a
     // missing scene after the count: were the count taken, the line would name the scene).
     let dir = scratch("frame-counts");
     let out_dir = dir.to_str().unwrap();
