@@ -135,8 +135,9 @@ fn report_with_zero_frames_is_refused() {
 #[test]
 fn frame_counts_that_would_run_for_days_are_refused() {
     // Each measured frame keeps its passes' times until the run ends: four billion of them
-    // were taken, to run for months with their samples growing. Refused before any GPU work, with the range in the line (a
-    // missing scene after the count: were the count taken, the line would name the scene).
+    // were taken, to run for months with their samples growing. Refused before any GPU work,
+    // with the range in the line (a missing scene after the count: were the count taken, the
+    // line would name the scene).
     let dir = scratch("frame-counts");
     let out_dir = dir.to_str().unwrap();
     for (command, flag) in [
@@ -150,8 +151,9 @@ fn frame_counts_that_would_run_for_days_are_refused() {
             if command == "report" {
                 args.extend(["--out-dir", out_dir]);
             }
-            assert_bad_input(&vkgi(&args), &format!("{flag} <"));
-            assert_bad_input(&vkgi(&args), "..=100000");
+            let output = vkgi(&args);
+            assert_bad_input(&output, &format!("{flag} <"));
+            assert_bad_input(&output, "..=100000");
         }
     }
 }

@@ -28,12 +28,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             "--indirect-only with --method none would render a black image: choose a GI method"
         );
     }
-    let frames = match args.frames {
-        Some(n) => n,
-        None => chosen
+    let frames = args.frames.unwrap_or_else(|| {
+        chosen
             .as_ref()
-            .map_or(1, |c| (c.entry.settle_frames)(&c.settings)),
-    };
+            .map_or(1, |c| (c.entry.settle_frames)(&c.settings))
+    });
     let gpu = Gpu::new(&args.gpu.options()).context("setting up the GPU")?;
     let mut frame = Frame::new(&gpu, &scene, args.frame.options())?;
     let mut gi = method::build_if_chosen(&gpu, &scene, chosen.as_ref())?;
