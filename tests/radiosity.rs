@@ -109,6 +109,22 @@ fn the_gpu_solution_equals_the_f64_gauss_seidel_solve_on_a_coarse_cornell_box() 
     common::assert_no_validation_errors(&gpu);
 }
 
+#[test]
+fn a_device_without_subgroup_arithmetic_is_refused_in_one_line() {
+    let mut gpu = common::gpu();
+    // The stats pass sums each surface in a subgroup: without the operations it cannot be built.
+    gpu.info.compute_subgroup_arithmetic = false;
+    let scene = Scene::load("cornell-area").unwrap();
+    let elements = Elements::bake(&scene, Density::Budget(100), &|_| {});
+    let error = match Solver::new(&gpu, &scene, elements, options(false, 16)) {
+        Ok(_) => panic!("a solver was built on a device without subgroup arithmetic"),
+        Err(e) => format!("{e:#}"),
+    };
+    assert!(error.contains("subgroup arithmetic"), "{error}");
+    assert!(!error.contains('\n'), "{error}");
+    common::assert_no_validation_errors(&gpu);
+}
+
 /// Mean irradiance over the receiver's elements per unit emitted radiosity: its form factor to
 /// the emitter.
 fn form_factor_through_item_buffer(gpu: &Gpu, scene: &Scene, hemicube: bool) -> f64 {

@@ -169,6 +169,9 @@ pub struct DeviceInfo {
     /// Compute shaders may shuffle values across a subgroup (the compute stage with the basic
     /// and shuffle subgroup operations).
     pub compute_subgroup_shuffles: bool,
+    /// Compute shaders may reduce values across a subgroup (the compute stage with the basic
+    /// and arithmetic subgroup operations).
+    pub compute_subgroup_arithmetic: bool,
     /// VK_EXT_conservative_rasterization, where the device has it (enabled): raster pipelines
     /// may overestimate coverage (every pixel a triangle touches).
     pub conservative_rasterization: Option<ConservativeRasterization>,
@@ -877,6 +880,12 @@ fn create_device(
             && subgroup_props
                 .supported_operations
                 .contains(vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::SHUFFLE),
+        compute_subgroup_arithmetic: subgroup_props
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+            && subgroup_props
+                .supported_operations
+                .contains(vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::ARITHMETIC),
         conservative_rasterization: conservative.then_some(ConservativeRasterization {
             max_extra_overestimation: conservative_props.max_extra_primitive_overestimation_size,
             degenerate_triangles_rasterized: conservative_props.degenerate_triangles_rasterized

@@ -251,6 +251,9 @@ pub struct Solver {
     item_distance: Image,
     item_depth: Image,
     stats_pass: ComputePipeline,
+    /// Workgroups of the stats pass: one subgroup a surface, at most [`MAX_WORKGROUPS_X`]
+    /// (its subgroups stride over the rest).
+    stats_groups: u32,
     select_pass: ComputePipeline,
     locations_pass: ComputePipeline,
     gather_pass: ComputePipeline,
@@ -273,6 +276,11 @@ impl Solver {
         elements: Elements,
         options: SolverOptions,
     ) -> anyhow::Result<Solver> {
+        anyhow::ensure!(
+            gpu.info.compute_subgroup_arithmetic,
+            "radiosity needs subgroup arithmetic in compute shaders (its stats pass sums each surface in a subgroup), which this device ({}) does not offer",
+            gpu.info.name
+        );
         let slots = options.locations.max(1);
         let element_count = elements.elements.len().max(1);
         let vec4_bytes = element_count as u64 * 16;
@@ -383,6 +391,7 @@ impl Solver {
                 vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             )?,
             stats_pass: compute("radiosity stats", shaders::GI_RADIOSITY_STATS_COMP)?,
+            stats_groups: stats_workgroups(surface_count as u32, gpu.info.subgroup_size),
             select_pass: compute("radiosity select", shaders::GI_RADIOSITY_SELECT_COMP)?,
             locations_pass: compute("radiosity locations", shaders::GI_RADIOSITY_LOCATIONS_COMP)?,
             gather_pass: compute("radiosity gather", shaders::GI_RADIOSITY_GATHER_COMP)?,
@@ -530,7 +539,6 @@ impl Solver {
 
     fn record_quantity_shot(&self, rec: &mut Recorder, quantity: u32, select: u32, flags: u32) -> GpuResult<()> {
         let surface_count = self.elements.surfaces.len() as u32;
-        let columns = surface_count.clamp(1, MAX_WORKGROUPS_X);
         let shot = if quantity == QUANTITY_IMPORTANCE { &self.importance_shot } else { &self.shot };
         rec.compute(&ComputePass {
             name: "radiosity stats",
@@ -546,7 +554,7 @@ impl Solver {
                 Binding::write(ids::RAD_IMPORTANCE_STATS, &self.importance_stats),
             ],
             push: &StatsPush { surface_count },
-            threads: [columns * LINEAR_WORKGROUP, surface_count.div_ceil(columns).max(1), 1],
+            threads: [self.stats_groups * LINEAR_WORKGROUP, 1, 1],
         })?;
         rec.compute(&ComputePass {
             name: "radiosity select",
@@ -761,6 +769,13 @@ impl Solver {
     }
 }
 
+/// Workgroups of the stats pass for `surface_count` surfaces, one a subgroup of `subgroup_size`
+/// lanes: enough for each surface its own subgroup, at most [`MAX_WORKGROUPS_X`].
+fn stats_workgroups(surface_count: u32, subgroup_size: u32) -> u32 {
+    let per_group = (LINEAR_WORKGROUP / subgroup_size.max(1)).max(1);
+    surface_count.div_ceil(per_group).clamp(1, MAX_WORKGROUPS_X)
+}
+
 /// A punctual light as one or two hemispheres of shooting locations: a spot (at most 90°)
 /// around its axis, a point light as two opposite hemispheres.
 fn light_locations(light: &Light) -> Vec<GpuLocation> {
@@ -821,4 +836,24 @@ fn item_mesh(scene: &Scene, elements: &Elements, level: u32) -> (Vec<[f32; 4]>, 
         }
     }
     (vertices, sides)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_stats_pass_gives_every_surface_a_subgroup_up_to_the_dispatch_limit() {
+        // lavapipe's 8 lanes: 8 surfaces a workgroup of 64.
+        assert_eq!(stats_workgroups(12_815, 8), 1602);
+        assert_eq!(stats_workgroups(8, 8), 1);
+        assert_eq!(stats_workgroups(9, 8), 2);
+        // A subgroup as wide as the workgroup, or wider: one surface a workgroup.
+        assert_eq!(stats_workgroups(30, 64), 30);
+        assert_eq!(stats_workgroups(30, 128), 30);
+        // No surfaces still dispatches one workgroup (its subgroups find nothing to do), and
+        // past the limit the subgroups stride over the rest.
+        assert_eq!(stats_workgroups(0, 32), 1);
+        assert_eq!(stats_workgroups(10_000_000, 32), MAX_WORKGROUPS_X);
+    }
 }
