@@ -12,7 +12,7 @@ layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 layout(binding = GATHER_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
 layout(binding = GATHER_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
 layout(binding = GATHER_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
-layout(binding = GATHER_VPLS, std430) readonly buffer Vpls { vec4 vpls[]; };
+layout(binding = GATHER_VPLS) uniform samplerBuffer vpls;
 layout(binding = GATHER_LIGHTS, std430) readonly buffer Lights { Light lights[]; };
 layout(binding = GATHER_SCENE_SHADOW_MAP) uniform sampler2DArray scene_shadow_map;
 layout(binding = GATHER_SCENE_SHADOW_VIEWS, std430) readonly buffer SceneShadowViews {

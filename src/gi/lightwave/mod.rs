@@ -353,7 +353,7 @@ impl LightWave {
         };
         let none = Specialization::new();
         Ok(LightWave {
-            vpls: gpu.create_buffer(&BufferDesc::storage("lightwave vpls", vpl_bytes))?,
+            vpls: gpu.create_buffer(&BufferDesc::storage_texels("lightwave vpls", vpl_bytes))?,
             vpl_pipeline: ComputePipeline::new(
                 gpu,
                 "lightwave vpls",
@@ -474,7 +474,7 @@ impl GiMethod for LightWave {
                 Binding::image_read(ids::GATHER_GBUFFER_POSITION, &g.position),
                 Binding::image_read(ids::GATHER_GBUFFER_NORMAL, &g.normal),
                 Binding::image_read(ids::GATHER_GBUFFER_ALBEDO, &g.albedo),
-                Binding::read(ids::GATHER_VPLS, &self.vpls),
+                Binding::texels(ids::GATHER_VPLS, &self.vpls),
                 Binding::read(ids::GATHER_LIGHTS, &ctx.scene.lights),
                 Binding::sampled(
                     ids::GATHER_SCENE_SHADOW_MAP,

@@ -20,11 +20,16 @@ crate::push_constants! {
         vertex_count: u32,
         light_count: u32,
         per_light: u32,
+        slices: u32,
     }
 }
 
 /// Workgroups along x every device allows (maxComputeWorkGroupCount's required minimum).
 const MAX_WORKGROUPS_X: u32 = 65_535;
+
+/// Invocations the gather aims for: a mesh with fewer (vertex, light) pairs splits each pair's
+/// VPLs into slices until about this many run (a GPU fills; a CPU device does not mind).
+const TARGET_INVOCATIONS: u32 = 65_536;
 
 pub struct VertexGather {
     vertex_count: u32,
@@ -79,23 +84,27 @@ impl VertexGather {
             bindings: &[
                 Binding::read(ids::VERTEX_GATHER_VERTICES, &ctx.scene.vertices),
                 Binding::read(ids::VERTEX_GATHER_NORMALS, &self.normals),
-                Binding::read(ids::VERTEX_GATHER_VPLS, vpls),
+                Binding::texels(ids::VERTEX_GATHER_VPLS, vpls),
                 Binding::write(ids::VERTEX_GATHER_OUT, &self.values),
             ],
             push: &VertexGatherPush {
                 vertex_count: self.vertex_count,
                 light_count: self.light_count,
                 per_light,
+                slices: self.slices(),
             },
             threads: self.workgroups(),
         })
     }
 
-    /// One workgroup per (vertex, light), in rows of at most `MAX_WORKGROUPS_X` (as threads).
+    /// Slices of each (vertex, light) pair's VPLs: the power of two, at most a workgroup, that
+    /// brings the invocations to [`TARGET_INVOCATIONS`].
+    fn slices(&self) -> u32 {
+        vpl_slices(self.vertex_count * self.light_count)
+    }
+
     fn workgroups(&self) -> [u32; 3] {
-        let total = (self.vertex_count * self.light_count).max(1);
-        let columns = total.min(MAX_WORKGROUPS_X);
-        [columns * LINEAR_WORKGROUP, total.div_ceil(columns), 1]
+        gather_threads(self.vertex_count * self.light_count, self.slices())
     }
 
     /// Draw the triangle each pixel of view `index` sees.
@@ -119,5 +128,56 @@ impl VertexGather {
         let bytes = gpu.read_buffer(&self.values)?;
         let count = (self.vertex_count * self.light_count) as usize;
         Ok(bytemuck::cast_slice::<u8, [f32; 2]>(&bytes)[..count].to_vec())
+    }
+}
+
+/// Slices for `pairs` (vertex, light) pairs: see [`VertexGather::slices`].
+fn vpl_slices(pairs: u32) -> u32 {
+    TARGET_INVOCATIONS
+        .div_ceil(pairs.max(1))
+        .next_power_of_two()
+        .min(LINEAR_WORKGROUP)
+}
+
+/// The gather's threads for `pairs` (vertex, light) pairs in `slices`: a workgroup per
+/// `LINEAR_WORKGROUP / slices` pairs, in rows of at most `MAX_WORKGROUPS_X` workgroups.
+fn gather_threads(pairs: u32, slices: u32) -> [u32; 3] {
+    let groups = pairs.div_ceil(LINEAR_WORKGROUP / slices).max(1);
+    let columns = groups.min(MAX_WORKGROUPS_X);
+    [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn few_pairs_split_their_vpls_and_many_do_not() {
+        // The Cornell box's vertices: a workgroup's worth of slices each.
+        assert_eq!(vpl_slices(60), LINEAR_WORKGROUP);
+        assert_eq!(vpl_slices(0), LINEAR_WORKGROUP);
+        // four-boxes' 272 vertices and 16 lights: 4352 pairs, 16 slices make 69 632.
+        assert_eq!(vpl_slices(272 * 16), 16);
+        assert_eq!(vpl_slices(TARGET_INVOCATIONS / 2), 2);
+        // atrium:1's 37 381 vertices and 2 lights: one slice.
+        assert_eq!(vpl_slices(37_381 * 2), 1);
+        assert_eq!(vpl_slices(u32::MAX), 1);
+    }
+
+    #[test]
+    fn the_gather_covers_every_pair_in_rows_of_workgroups() {
+        for (pairs, slices) in [(6, 64), (2400, 32), (72_600, 1), (5_000_000, 1), (3_000_000, 2)] {
+            let [x, y, z] = gather_threads(pairs, slices);
+            let (columns, rows) = (x / LINEAR_WORKGROUP, y);
+            assert_eq!((x % LINEAR_WORKGROUP, z), (0, 1));
+            assert!(columns <= MAX_WORKGROUPS_X);
+            // The shader's pair of the last lane of the last workgroup reaches the last pair.
+            let pairs_per_group = LINEAR_WORKGROUP / slices;
+            let covered = u64::from(columns) * u64::from(rows) * u64::from(pairs_per_group);
+            assert!(covered >= u64::from(pairs), "{pairs} pairs in {slices} slices");
+            assert!(covered < u64::from(pairs) + u64::from(columns * pairs_per_group));
+        }
+        // Past one row: 5 000 000 pairs a slice, 78 125 workgroups, two rows.
+        assert_eq!(gather_threads(5_000_000, 1)[1], 2);
     }
 }
