@@ -43,15 +43,19 @@ layout(push_constant) uniform Push {
 
 void main() {
     uint e = gl_GlobalInvocationID.y * gl_NumWorkGroups.x * LINEAR_WORKGROUP + gl_GlobalInvocationID.x;
-    if (e >= pc.element_count) return;
+    // The location and the shot are read before the first return: lavapipe reads a buffer
+    // once for all the lanes only at an index of constants and push constants outside every
+    // branch (a return included), and lane by lane anywhere else.
     Location location = locations[pc.slot];
+    uint shooter = shot.shooter;
+    if (e >= pc.element_count) return;
     float kind = location.normal_kind.w;
     if (kind == LOCATION_NONE) return;
     Element element = elements[e];
     float area = element.position_area.w;
     uint surface = floatBitsToUint(element.albedo_surface.w);
     bool deliver = (pc.flags & GATHER_DELIVER) != 0u;
-    if (area <= 0.0 || (!deliver && kind == LOCATION_SURFACE && surface == shot.shooter)) return;
+    if (area <= 0.0 || (!deliver && kind == LOCATION_SURFACE && surface == shooter)) return;
     bool restricted = (pc.flags & (GATHER_RESTRICT | GATHER_DELIVER)) != 0u && kind == LOCATION_SURFACE;
     if (restricted && visible[surface] == 0u) return;
     if (deliver) {
