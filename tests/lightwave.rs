@@ -124,6 +124,27 @@ fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3], slack: f64) -> Option<[f64; 3]> 
     weights.iter().all(|&x| x >= -slack).then_some(weights)
 }
 
+/// One frame of LightWave gathering per vertex with `settings` on `scene`'s first light: the
+/// frame, the per-vertex values (front, back) and the f64 rig's VPLs.
+fn vertex_gather_frame(
+    gpu: &vkgi::gpu::Gpu,
+    scene: &Scene,
+    settings: LightWaveSettings,
+    (width, height): (u32, u32),
+) -> (Frame, Vec<[f32; 2]>, Vec<Vpl>) {
+    let rig = settings.rig;
+    let mut method = LightWave::with(&Setup::new(gpu, scene), settings).expect("lightwave");
+    let mut frame = Frame::new(gpu, scene, indirect(width, height)).expect("frame");
+    drop(run_frames(gpu, &mut frame, Some(&mut method), 0, 1).expect("frame"));
+    let light = &scene.lights[0];
+    let vpls = rig.vpls(light.position.as_dvec3(), rig_axis(light));
+    let values = method
+        .read_vertex_values(gpu)
+        .expect("readback")
+        .expect("per vertex");
+    (frame, values, vpls)
+}
+
 /// Assert that the per-vertex values (front, back) equal the f64 gather at every vertex of a
 /// mesh lying in the y = 0 plane, front +Y and back -Y, within 1e-4 relative; whether some
 /// vertex's back is lit.
@@ -157,18 +178,9 @@ fn the_vertex_gather_is_the_f64_gather_at_every_vertex_interpolated_across_trian
         ],
     );
     assert!(s.per_vertex);
-    let rig = s.rig;
-    let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
     let (width, height) = (24, 18);
-    let mut frame = Frame::new(&gpu, &scene, indirect(width, height)).expect("frame");
-    drop(run_frames(&gpu, &mut frame, Some(&mut method), 0, 1).expect("frame"));
-    let light = &scene.lights[0];
-    let vpls = rig.vpls(light.position.as_dvec3(), rig_axis(light));
+    let (frame, values, vpls) = vertex_gather_frame(&gpu, &scene, s, (width, height));
     // Per vertex, both sides: the f64 gather.
-    let values = method
-        .read_vertex_values(&gpu)
-        .expect("readback")
-        .expect("per vertex");
     let mesh = &scene.mesh;
     assert_eq!(values.len(), mesh.positions.len());
     let back_lit = assert_vertex_values_are_the_f64_gather(&values, mesh, &vpls);
@@ -245,16 +257,7 @@ fn the_vertex_gather_is_the_f64_gather_however_it_slices_the_vpls_and_without_no
                 ("lightwave-angle", "90"),
             ],
         );
-        let rig = s.rig;
-        let mut method = LightWave::with(&Setup::new(&gpu, &scene), s).expect("lightwave");
-        let mut frame = Frame::new(&gpu, &scene, indirect(16, 12)).expect("frame");
-        drop(run_frames(&gpu, &mut frame, Some(&mut method), 0, 1).expect("frame"));
-        let light = &scene.lights[0];
-        let vpls = rig.vpls(light.position.as_dvec3(), rig_axis(light));
-        let values = method
-            .read_vertex_values(&gpu)
-            .expect("readback")
-            .expect("per vertex");
+        let (_, values, vpls) = vertex_gather_frame(&gpu, &scene, s, (16, 12));
         let vertices = (6 * cells * cells) as usize;
         assert_eq!(values.len(), vertices);
         assert!(

@@ -841,6 +841,15 @@ fn create_device(
     let props = props2.properties;
     let limits = props.limits;
     let c_str = |s: Result<&CStr, _>| s.map(|s: &CStr| s.to_string_lossy().into_owned());
+    // Compute shaders may use the basic subgroup operations and `operations`.
+    let compute_subgroups = |operations: vk::SubgroupFeatureFlags| {
+        subgroup_props
+            .supported_stages
+            .contains(vk::ShaderStageFlags::COMPUTE)
+            && subgroup_props
+                .supported_operations
+                .contains(vk::SubgroupFeatureFlags::BASIC | operations)
+    };
     let info = DeviceInfo {
         name: c_str(props.device_name_as_c_str()).unwrap_or_default(),
         device_type: props.device_type,
@@ -874,18 +883,8 @@ fn create_device(
         shader_buffer_int64_atomics: int64_atomics,
         fragment_stores_and_atomics: base.fragment_stores_and_atomics == vk::TRUE,
         subgroup_size: subgroup_props.subgroup_size,
-        compute_subgroup_shuffles: subgroup_props
-            .supported_stages
-            .contains(vk::ShaderStageFlags::COMPUTE)
-            && subgroup_props
-                .supported_operations
-                .contains(vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::SHUFFLE),
-        compute_subgroup_arithmetic: subgroup_props
-            .supported_stages
-            .contains(vk::ShaderStageFlags::COMPUTE)
-            && subgroup_props
-                .supported_operations
-                .contains(vk::SubgroupFeatureFlags::BASIC | vk::SubgroupFeatureFlags::ARITHMETIC),
+        compute_subgroup_shuffles: compute_subgroups(vk::SubgroupFeatureFlags::SHUFFLE),
+        compute_subgroup_arithmetic: compute_subgroups(vk::SubgroupFeatureFlags::ARITHMETIC),
         conservative_rasterization: conservative.then_some(ConservativeRasterization {
             max_extra_overestimation: conservative_props.max_extra_primitive_overestimation_size,
             degenerate_triangles_rasterized: conservative_props.degenerate_triangles_rasterized
