@@ -23,7 +23,7 @@ layout(local_size_x = RV_LIGHT_GROUP) in;
 layout(binding = RV_CACHES, std430) buffer Caches { vec4 caches[]; };
 layout(binding = RV_SPECULAR, std430) buffer Specular { vec4 specular[]; };
 // The VAL chain, four texels a VAL (gi/radiance_volumes/val.glsl's Val).
-layout(binding = RV_VAL_TEXELS) uniform samplerBuffer vals;
+layout(binding = RV_VALS) uniform samplerBuffer vals;
 layout(binding = RV_STATE, std430) readonly buffer State { RvState state; };
 layout(binding = RV_VOXELS, std430) readonly buffer Voxels { float voxels[]; };
 layout(binding = RV_SHADOW_VIEWS, std430) readonly buffer ShadowViews { ShadowView views[]; };

@@ -20,8 +20,6 @@ crate::shared_constants! {
     RV_VOXELS: u32 = 16;
     RV_SPECULAR: u32 = 17;
     RV_GBUFFER_SPECULAR: u32 = 18;
-    /// The VAL chain read as texels (the cache lighting); RV_VALS where it is written.
-    RV_VAL_TEXELS: u32 = 19;
     /// Side of the allocation pass's pixel tiles (spec 001 §4.2).
     RV_TILE: u32 = 16;
     /// Threads of the cache-lighting workgroups (one cache each).

@@ -473,7 +473,7 @@ impl Passes {
                 bindings: &[
                     Binding::write(ids::RV_CACHES, &self.caches),
                     Binding::write(ids::RV_SPECULAR, &self.specular),
-                    Binding::texels(ids::RV_VAL_TEXELS, &self.vals),
+                    Binding::texels(ids::RV_VALS, &self.vals),
                     Binding::read(ids::RV_STATE, &self.state[self.parity]),
                     Binding::read(ids::RV_VOXELS, &self.voxels.volume),
                     Binding::read(ids::RV_SHADOW_VIEWS, &ctx.scene.shadow_views),
