@@ -8,6 +8,7 @@
 
 use serde::Serialize;
 
+use crate::gpu::dispatch::MAX_WORKGROUPS_X;
 use crate::gpu::frames::FrameRing;
 use crate::gpu::{Binding, BufferDesc, ComputePass, ComputePipeline, Gpu, Specialization};
 use crate::shader_shared as ids;
@@ -57,9 +58,6 @@ const RUNS: u32 = 7;
 /// Bytes per buffer of the bandwidth probe (less where the dispatch limit or the device's
 /// storage-buffer range is lower).
 const STREAM_BYTES: u64 = 64 << 20;
-/// Workgroups one dimension of a dispatch may have on every device (Vulkan's minimum of
-/// maxComputeWorkGroupCount).
-const MAX_GROUPS: u64 = 65_535;
 /// The arithmetic probe grows until one run takes at least this long, so timer resolution does
 /// not matter.
 const MIN_RUN_NS: f64 = 2e6;
@@ -137,8 +135,10 @@ pub fn measure(gpu: &Gpu) -> anyhow::Result<DeviceLimits> {
     // last-level cache: a size that straddles the cache measured anywhere from 5.7 to 8.9 GB/s
     // here. One vec4 per invocation in a 1-D dispatch: at most 65535 workgroups, the least any
     // device has. (On a GPU the copy takes tens of µs, well above its timer's resolution.)
-    let count =
-        (STREAM_BYTES.min(limit) / 16).clamp(1, MAX_GROUPS * u64::from(ids::LINEAR_WORKGROUP));
+    let count = (STREAM_BYTES.min(limit) / 16).clamp(
+        1,
+        u64::from(MAX_WORKGROUPS_X) * u64::from(ids::LINEAR_WORKGROUP),
+    );
     let bandwidth = copy_bandwidth(gpu, count, false)?;
     // The texel copy where the device's texel-buffer limit holds the same count.
     let bandwidth = match count <= u64::from(gpu.info.max_texel_buffer_elements) {

@@ -7,10 +7,12 @@
 //! * [`pass`]: the one place a pass is recorded (debug label, timestamp scope, barriers).
 //! * [`profiler`]: timestamp queries in a ring of frames in flight.
 //! * [`frames`]: the ring of command buffers and fences the frame loop records into.
+//! * [`dispatch`]: the shapes of compute dispatches every device accepts.
 //! * [`scope`] and [`push`]: typed tags of timed passes; push constants with checked layouts.
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod context;
+pub mod dispatch;
 pub mod frames;
 pub mod memory;
 pub mod pass;

@@ -7,7 +7,7 @@
 #include "common/scene.glsl"
 #include "gi/radiance_volumes/voxel_column.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = LINEAR_WORKGROUP) in;
 
 layout(binding = RV_VERTICES, std430) readonly buffer Vertices { Vertex vertices[]; };
 layout(binding = RV_TRIANGLES, std430) readonly buffer Triangles { Triangle triangles[]; };

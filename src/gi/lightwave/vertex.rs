@@ -12,6 +12,7 @@ use crate::gpu::{
     Specialization,
 };
 use crate::scene::Scene;
+use crate::gpu::dispatch::rows_of_workgroups;
 use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
 
@@ -23,9 +24,6 @@ crate::push_constants! {
         slices: u32,
     }
 }
-
-/// Workgroups along x every device allows (maxComputeWorkGroupCount's required minimum).
-const MAX_WORKGROUPS_X: u32 = 65_535;
 
 /// Invocations the gather aims for: a mesh with fewer (vertex, light) pairs splits each pair's
 /// VPLs into slices until about this many run (a GPU fills; a CPU device does not mind).
@@ -140,16 +138,15 @@ fn vpl_slices(pairs: u32) -> u32 {
 }
 
 /// The gather's threads for `pairs` (vertex, light) pairs in `slices`: a workgroup per
-/// `LINEAR_WORKGROUP / slices` pairs, in rows of at most `MAX_WORKGROUPS_X` workgroups.
+/// `LINEAR_WORKGROUP / slices` pairs, in rows of workgroups.
 fn gather_threads(pairs: u32, slices: u32) -> [u32; 3] {
-    let groups = pairs.div_ceil(LINEAR_WORKGROUP / slices).max(1);
-    let columns = groups.min(MAX_WORKGROUPS_X);
-    [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1]
+    rows_of_workgroups(pairs.div_ceil(LINEAR_WORKGROUP / slices), LINEAR_WORKGROUP)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gpu::dispatch::MAX_WORKGROUPS_X;
 
     #[test]
     fn few_pairs_split_their_vpls_and_many_do_not() {

@@ -17,6 +17,7 @@ use super::voxelizer::RasterVoxelizer;
 use super::voxels::VoxelGrid;
 use super::{Bands, VolumeSettings};
 use crate::gi::FrameContext;
+use crate::gpu::dispatch::rows_of_workgroups;
 use crate::gi::shared::rsm::Rsm;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder,
@@ -24,6 +25,7 @@ use crate::gpu::{
 };
 use crate::render::targets::{View, check_buffer};
 use crate::scene::Scene;
+use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
 
 crate::push_constants! {
@@ -202,9 +204,6 @@ pub struct Passes {
     /// The first cascade's side in world units.
     pub first_side: f32,
 }
-
-/// Threads of a one-dimensional dispatch along x within the guaranteed 65 535 workgroups of 64.
-const MAX_THREADS_X: u32 = 65_535 * 64;
 
 /// Texels of one cache's specular map (0 when off).
 pub fn specular_texels(side: u32) -> u32 {
@@ -529,11 +528,7 @@ impl Passes {
             return raster.record(rec, triangles, grid, &self.voxels.target);
         }
         let triangles = scene.vertex_count / 3;
-        let threads = [
-            triangles.min(MAX_THREADS_X),
-            triangles.div_ceil(MAX_THREADS_X),
-            1,
-        ];
+        let threads = rows_of_workgroups(triangles.div_ceil(LINEAR_WORKGROUP), LINEAR_WORKGROUP);
         rec.compute(&ComputePass {
             name: "rv voxelize",
             pipeline: &self.pipelines.voxelize,

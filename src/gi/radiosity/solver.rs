@@ -19,6 +19,7 @@ use crate::gpu::{
     RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
 };
 use crate::scene::{Light, LightKind, Scene};
+use crate::gpu::dispatch::{MAX_WORKGROUPS_X, rows_of_workgroups};
 use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
 
@@ -152,8 +153,6 @@ const VIEW_VISIBILITY: u32 = 2;
 /// An element's distance may exceed the nearest surface's in its item-buffer texel by this
 /// fraction and still count as seen (the texel's footprint on slanted receivers).
 const VISIBILITY_BIAS: f32 = 0.02;
-/// Workgroups along x every device allows.
-const MAX_WORKGROUPS_X: u32 = 65_535;
 
 /// The solver's state as the GPU last left it (see `Shot` in radiosity.glsl).
 #[repr(C)]
@@ -637,12 +636,11 @@ impl Solver {
         self.shot_copy.mapped_value().unwrap_or_default()
     }
 
-    /// Threads of a pass with one per element, in rows of at most [`MAX_WORKGROUPS_X`]
-    /// workgroups (the shaders rebuild the element index from both dimensions).
+    /// Threads of a pass with one per element, in rows of workgroups (the shaders rebuild the
+    /// element index from both dimensions).
     fn element_threads(&self) -> [u32; 3] {
-        let groups = (self.elements.elements.len() as u32).div_ceil(LINEAR_WORKGROUP).max(1);
-        let columns = groups.min(MAX_WORKGROUPS_X);
-        [columns * LINEAR_WORKGROUP, groups.div_ceil(columns), 1]
+        let elements = self.elements.elements.len() as u32;
+        rows_of_workgroups(elements.div_ceil(LINEAR_WORKGROUP), LINEAR_WORKGROUP)
     }
 
     /// The item buffer of `slot`: one stereographic pass, five hemicube faces, or the camera.

@@ -9,6 +9,7 @@
 
 use super::bindings as ids;
 use crate::error::InputError;
+use crate::gpu::dispatch::MAX_WORKGROUPS_X;
 use crate::gpu::{Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder, Specialization};
 use crate::shaders;
 
@@ -19,7 +20,7 @@ const LOCATION_BYTES: u64 = 64;
 /// The table's memory limit: it is O(k N²) (§11.5), so pd refuses scenes it cannot hold.
 pub const TABLE_LIMIT_BYTES: u64 = 256 << 20;
 /// Columns one dispatch of the scan can cover (its y dimension).
-const MAX_COLUMNS: u64 = 65_535;
+const MAX_COLUMNS: u64 = MAX_WORKGROUPS_X as u64;
 
 crate::push_constants! {
     struct StorePush {
