@@ -119,6 +119,22 @@ fn the_gpu_reduction_matches_the_f64_reduction_of_the_same_hemisphere() {
 }
 
 #[test]
+fn a_device_without_subgroup_arithmetic_is_refused_in_one_line() {
+    let mut gpu = common::gpu();
+    // The reduction sums each hemisphere in subgroups: without the operations it cannot run.
+    gpu.info.compute_subgroup_arithmetic = false;
+    let scene = Scene::load("cornell").unwrap();
+    let settings = settings(Placement::Tiles, 0.5, 16);
+    let error = match IrradianceCache::with(&Setup::new(&gpu, &scene), settings) {
+        Ok(_) => panic!("an irradiance cache was built on a device without subgroup arithmetic"),
+        Err(e) => format!("{e:#}"),
+    };
+    assert!(error.contains("subgroup arithmetic"), "{error}");
+    assert!(!error.contains('\n'), "{error}");
+    common::assert_no_validation_errors(&gpu);
+}
+
+#[test]
 fn a_constant_hemisphere_gives_pi_l_with_border_stretching() {
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();

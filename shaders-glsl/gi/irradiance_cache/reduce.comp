@@ -6,18 +6,23 @@
 // record's zone a·R spans [min, max] view pixels where it was placed; a record widened by the
 // clamp has its translation gradient scaled down by as much. The f64 twins are cpu::reduce and
 // cpu::limit_radius.
+//
+// The workgroup's lanes sum with subgroup arithmetic and then across the subgroups through
+// shared memory behind one barrier: a tree over the workgroup in shared memory took two thirds
+// of the pass on lavapipe (which reads shared memory lane by lane at a lane's index and pays
+// each barrier), docs/irradiance-cache.md.
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "common/sampling.glsl"
 #include "gi/irradiance_cache/ic.glsl"
 
 layout(local_size_x = IC_WORKGROUP) in;
 
-struct Texel {
-    vec4 weight_rotation;  // W, Wr.xy
-    vec4 edges;            // G to the next texel along x (xy), along y (zw)
-};
-
 layout(binding = IC_HEMISPHERE, rgba32f) readonly uniform image2DArray hemisphere;
-layout(binding = IC_TABLES, std430) readonly buffer Tables { Texel tables[]; };
+// Two texels a hemisphere texel: (W, Wr.xy, 0), then G to the next texel along x (xy) and
+// along y (zw). Texel fetches, which lavapipe makes for all the lanes of a SIMD batch at once
+// (a storage buffer at the loop's index it reads lane by lane).
+layout(binding = IC_TABLES) uniform samplerBuffer tables;
 layout(binding = IC_RECORDS, std430) buffer Records { Record records[]; };
 layout(binding = IC_STATE, std430) readonly buffer State { CacheState state; };
 
@@ -30,6 +35,7 @@ layout(push_constant) uniform Push {
 
 // E (3), ∇_r (6), ∇_t (6), Σ W, Σ W / d.
 #define SUMS 17
+// Each subgroup's sums (a workgroup has at most IC_WORKGROUP subgroups).
 shared float partial[SUMS][IC_WORKGROUP];
 
 // Distance of a texel's surface; a texel that saw nothing is infinitely far.
@@ -48,16 +54,17 @@ void main() {
     for (uint k = t; k < r * r; k += IC_WORKGROUP) {
         ivec2 xy = ivec2(k % r, k / r);
         vec4 texel = imageLoad(hemisphere, ivec3(xy, layer));
-        Texel table = tables[k];
+        vec4 weight_rotation = texelFetch(tables, int(2u * k));
+        vec4 edges = texelFetch(tables, int(2u * k + 1u));
         vec3 l = texel.rgb;
         float d = texel_distance(texel);
-        float w = table.weight_rotation.x;
+        float w = weight_rotation.x;
         sums[15] += w;
         if (texel.a > 0.0) sums[16] += w / d;
         for (int c = 0; c < 3; ++c) {
             sums[c] += w * l[c];
-            sums[3 + 2 * c] += table.weight_rotation.y * l[c];
-            sums[4 + 2 * c] += table.weight_rotation.z * l[c];
+            sums[3 + 2 * c] += weight_rotation.y * l[c];
+            sums[4 + 2 * c] += weight_rotation.z * l[c];
         }
         for (int e = 0; e < 2; ++e) {
             ivec2 next = xy + (e == 0 ? ivec2(1, 0) : ivec2(0, 1));
@@ -65,7 +72,7 @@ void main() {
             vec4 other = imageLoad(hemisphere, ivec3(next, layer));
             float nearest = min(d, texel_distance(other));
             if (isinf(nearest)) continue;
-            vec2 g = e == 0 ? table.edges.xy : table.edges.zw;
+            vec2 g = e == 0 ? edges.xy : edges.zw;
             for (int c = 0; c < 3; ++c) {
                 float step = (other[c] - l[c]) / nearest;
                 sums[9 + 2 * c] += g.x * step;
@@ -73,25 +80,31 @@ void main() {
             }
         }
     }
-    for (int s = 0; s < SUMS; ++s) partial[s][t] = sums[s];
-    barrier();
-    for (uint stride = IC_WORKGROUP / 2u; stride > 0u; stride >>= 1u) {
-        if (t < stride) {
-            for (int s = 0; s < SUMS; ++s) partial[s][t] += partial[s][t + stride];
-        }
-        barrier();
+    for (int s = 0; s < SUMS; ++s) sums[s] = subgroupAdd(sums[s]);
+    if (subgroupElect()) {
+        for (int s = 0; s < SUMS; ++s) partial[s][gl_SubgroupID] = sums[s];
     }
-    if (t != 0u) return;
+    barrier();
+    // The first subgroup sums the subgroups' sums; its first lane writes the record.
+    if (gl_SubgroupID != 0u) return;
+    for (int s = 0; s < SUMS; ++s) {
+        float sum = 0.0;
+        for (uint j = gl_SubgroupInvocationID; j < gl_NumSubgroups; j += gl_SubgroupSize) {
+            sum += partial[s][j];
+        }
+        sums[s] = subgroupAdd(sum);
+    }
+    if (!subgroupElect()) return;
     Record record = records[index];
     vec3 n = record.normal_footprint.xyz;
     vec3 tangent, bitangent;
     orthonormal_basis(n, tangent, bitangent);
-    vec3 e = vec3(partial[0][0], partial[1][0], partial[2][0]);
-    float harmonic = partial[16][0] > 0.0 ? partial[15][0] / partial[16][0] : 1.0 / 0.0;
+    vec3 e = vec3(sums[0], sums[1], sums[2]);
+    float harmonic = sums[16] > 0.0 ? sums[15] / sums[16] : 1.0 / 0.0;
     float gradient_limit = 1.0 / 0.0;
     for (int c = 0; c < 3; ++c) {
-        vec3 rotation = tangent * partial[3 + 2 * c][0] + bitangent * partial[4 + 2 * c][0];
-        vec3 translation = tangent * partial[9 + 2 * c][0] + bitangent * partial[10 + 2 * c][0];
+        vec3 rotation = tangent * sums[3 + 2 * c] + bitangent * sums[4 + 2 * c];
+        vec3 translation = tangent * sums[9 + 2 * c] + bitangent * sums[10 + 2 * c];
         record.rotation[c] = vec4(rotation, 0.0);
         record.translation[c] = vec4(translation, 0.0);
         float slope = length(translation);

@@ -149,6 +149,13 @@ impl Passes {
             ))
             .into());
         }
+        if !gpu.info.compute_subgroup_arithmetic {
+            return Err(GpuError::Setup(format!(
+                "irradiance-cache needs subgroup arithmetic in compute shaders (its reduction sums each hemisphere in subgroups), which this device ({}) does not offer",
+                gpu.info.name
+            ))
+            .into());
+        }
         let none = Specialization::new();
         let compute = |name: &str, spirv: &[u8]| ComputePipeline::new(gpu, name, spirv, &none);
         let pipelines = Pipelines {
@@ -244,7 +251,7 @@ impl Passes {
                 location: MemoryLocation::GpuToCpu,
                 texels: None,
             })?,
-            tables: gpu.upload_storage_items("ic hemisphere tables", texels.len(), |i| texels[i])?,
+            tables: texel_tables(gpu, &texels)?,
             hemisphere,
             hemisphere_depth,
             batch,
@@ -461,7 +468,7 @@ impl Passes {
             pipeline: &self.pipelines.reduce,
             bindings: &[
                 Binding::image_read(ids::IC_HEMISPHERE, &self.hemisphere),
-                Binding::read(ids::IC_TABLES, &self.tables),
+                Binding::texels(ids::IC_TABLES, &self.tables),
                 Binding::write(ids::IC_RECORDS, &self.records),
                 Binding::read(ids::IC_STATE, &self.state),
             ],
@@ -582,4 +589,15 @@ impl Passes {
             threads: [view.width(), view.height(), 1],
         })
     }
+}
+
+/// The hemisphere tables as the reduction reads them: two RGBA32F texels a hemisphere texel.
+fn texel_tables(gpu: &Gpu, texels: &[[[f32; 4]; 2]]) -> GpuResult<Buffer> {
+    let bytes: &[u8] = bytemuck::cast_slice(texels);
+    let tables = gpu.create_buffer(&BufferDesc::storage_texels(
+        "ic hemisphere tables",
+        bytes.len() as u64,
+    ))?;
+    gpu.write_buffer(&tables, bytes)?;
+    Ok(tables)
 }
