@@ -3,6 +3,11 @@
 // finds the covered pixel whose accumulated weight is below a (Eq. 8.8) and lowest, ties to the
 // lowest pixel index; in scan mode (§17 mode A) one tile spans the view and the first such pixel
 // in scan order wins. Writes the pixel's index, or IC_NONE, to the tile's candidate slot.
+// Each subgroup finds its lanes' best with subgroup arithmetic, and the first subgroup the best
+// of those behind one barrier (a tree over the workgroup in shared memory, a barrier a level,
+// cost lavapipe more: docs/irradiance-cache.md).
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "gi/irradiance_cache/ic.glsl"
 
 layout(local_size_x = IC_SELECT_WORKGROUP) in;
@@ -19,8 +24,16 @@ layout(push_constant) uniform Push {
     uint scan;   // 1: the first miss in scan order; 0: the least covered
 } pc;
 
+// Each subgroup's best (a workgroup has at most IC_SELECT_WORKGROUP subgroups).
 shared uint shared_key[IC_SELECT_WORKGROUP];
 shared uint shared_pixel[IC_SELECT_WORKGROUP];
+
+// The subgroup's least key, ties to the lowest pixel index, as (key, pixel); IC_NONE (the
+// largest index) stands for no pixel.
+uvec2 subgroup_best(uint key, uint pixel) {
+    uint least = subgroupMin(key);
+    return uvec2(least, subgroupMin(key == least ? pixel : uint(IC_NONE)));
+}
 
 void main() {
     uint t = gl_LocalInvocationID.x;
@@ -41,19 +54,19 @@ void main() {
             best_pixel = index;
         }
     }
-    shared_key[t] = best_key;
-    shared_pixel[t] = best_pixel;
-    barrier();
-    for (uint stride = IC_SELECT_WORKGROUP / 2u; stride > 0u; stride >>= 1u) {
-        if (t < stride) {
-            uint key = shared_key[t + stride];
-            uint index = shared_pixel[t + stride];
-            if (key < shared_key[t] || (key == shared_key[t] && index < shared_pixel[t])) {
-                shared_key[t] = key;
-                shared_pixel[t] = index;
-            }
-        }
-        barrier();
+    uvec2 best = subgroup_best(best_key, best_pixel);
+    if (subgroupElect()) {
+        shared_key[gl_SubgroupID] = best.x;
+        shared_pixel[gl_SubgroupID] = best.y;
     }
-    if (t == 0u) candidates[gl_WorkGroupID.y * pc.tiles_x + gl_WorkGroupID.x] = shared_pixel[0];
+    barrier();
+    if (gl_SubgroupID != 0u) return;
+    best = uvec2(0xFFFFFFFFu, uint(IC_NONE));
+    for (uint j = gl_SubgroupInvocationID; j < gl_NumSubgroups; j += gl_SubgroupSize) {
+        uint key = shared_key[j];
+        uint index = shared_pixel[j];
+        if (key < best.x || (key == best.x && index < best.y)) best = uvec2(key, index);
+    }
+    best = subgroup_best(best.x, best.y);
+    if (subgroupElect()) candidates[gl_WorkGroupID.y * pc.tiles_x + gl_WorkGroupID.x] = best.y;
 }
