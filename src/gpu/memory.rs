@@ -348,7 +348,7 @@ impl Gpu {
     /// Refuse a texel view with more texels than the device's maxTexelBufferElements.
     fn check_texel_count(&self, desc: &BufferDesc, format: vk::Format) -> GpuResult<()> {
         let texel_bytes = match format {
-            vk::Format::R32G32B32A32_SFLOAT => 16,
+            vk::Format::R32G32B32A32_SFLOAT | vk::Format::R32G32B32A32_UINT => 16,
             other => {
                 return Err(GpuError::Setup(format!(
                     "buffer '{}': texel views of {other:?} are not supported",
@@ -577,15 +577,32 @@ impl Gpu {
         if count == 0 {
             return self.upload_storage(name, &[]);
         }
+        self.upload_items(name, count, None, item)
+    }
+
+    /// [`Gpu::upload_storage_items`] of at least one item, which shaders read as texels of
+    /// `format` (a uniform texel buffer over the whole buffer).
+    pub fn upload_texel_items<T: bytemuck::Pod>(
+        &self,
+        name: &str,
+        count: usize,
+        format: vk::Format,
+        item: impl Fn(usize) -> T,
+    ) -> GpuResult<Buffer> {
+        self.upload_items(name, count.max(1), Some(format), item)
+    }
+
+    fn upload_items<T: bytemuck::Pod>(
+        &self,
+        name: &str,
+        count: usize,
+        texels: Option<vk::Format>,
+        item: impl Fn(usize) -> T,
+    ) -> GpuResult<Buffer> {
         let size = std::mem::size_of::<T>();
         let buffer = self.create_buffer(&BufferDesc {
-            name,
-            size: (count * size) as u64,
-            usage: vk::BufferUsageFlags::STORAGE_BUFFER
-                | vk::BufferUsageFlags::TRANSFER_SRC
-                | vk::BufferUsageFlags::TRANSFER_DST,
-            location: MemoryLocation::GpuOnly,
-            texels: None,
+            texels,
+            ..BufferDesc::storage(name, (count * size) as u64)
         })?;
         let staging_name = format!("{name} (staging)");
         let mut staging = self.create_buffer(&BufferDesc {

@@ -7,8 +7,11 @@
 #include "gi/radiosity/radiosity.glsl"
 
 layout(binding = RAD_LOCATIONS, std430) readonly buffer Locations { Location locations[]; };
-layout(binding = RAD_ITEM_VERTICES, std430) readonly buffer ItemVertices { vec4 item_vertices[]; };
-layout(binding = RAD_ITEM_TRIANGLES, std430) readonly buffer ItemTriangles { uvec4 item_triangles[]; };
+// The mesh's vertices (three a triangle) and each triangle's sides, as texels: lavapipe fetches
+// texels for all the lanes of a SIMD batch at once, where it reads a storage buffer at a vertex's
+// index lane by lane (docs/radiosity.md).
+layout(binding = RAD_ITEM_VERTICES) uniform samplerBuffer item_vertices;
+layout(binding = RAD_ITEM_TRIANGLES) uniform usamplerBuffer item_triangles;
 
 #define ITEM_STEREOGRAPHIC 0u
 #define ITEM_HEMICUBE 1u
@@ -34,7 +37,7 @@ out gl_PerVertex {
 void main() {
     Location location = locations[pc.slot];
     uint triangle = gl_VertexIndex / 3u;
-    vec3 p = item_vertices[gl_VertexIndex].xyz;
+    vec3 p = texelFetch(item_vertices, gl_VertexIndex).xyz;
     if (pc.projection == ITEM_CAMERA) {
         location.position_area = vec4(pc.eye.xyz, 0.0);
         location.normal_kind.w = LOCATION_SURFACE;
@@ -48,10 +51,10 @@ void main() {
     }
     vec3 s = location.position_area.xyz;
     vec3 n = location.normal_kind.xyz;
-    vec3 a = item_vertices[triangle * 3u].xyz;
-    vec3 face_normal = cross(item_vertices[triangle * 3u + 1u].xyz - a,
-                             item_vertices[triangle * 3u + 2u].xyz - a);
-    uvec4 sides = item_triangles[triangle];
+    vec3 a = texelFetch(item_vertices, int(triangle * 3u)).xyz;
+    vec3 face_normal = cross(texelFetch(item_vertices, int(triangle * 3u + 1u)).xyz - a,
+                             texelFetch(item_vertices, int(triangle * 3u + 2u)).xyz - a);
+    uvec4 sides = texelFetch(item_triangles, int(triangle));
     out_surface = dot(face_normal, s - a) >= 0.0 ? sides.x : sides.y;
     vec3 v = p - s;
     float r = length(v);

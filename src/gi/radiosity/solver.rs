@@ -363,14 +363,16 @@ impl Solver {
                 "radiosity locations",
                 u64::from(slots.max(2)) * std::mem::size_of::<GpuLocation>() as u64,
             )?,
-            item_vertices: gpu.upload_storage_items(
+            item_vertices: gpu.upload_texel_items(
                 "radiosity item-buffer mesh",
                 item_vertices.len().max(3),
+                vk::Format::R32G32B32A32_SFLOAT,
                 |i| item_vertices.get(i).copied().unwrap_or_default(),
             )?,
-            item_triangles: gpu.upload_storage_items(
+            item_triangles: gpu.upload_texel_items(
                 "radiosity item-buffer sides",
-                item_triangles.len().max(1),
+                item_triangles.len(),
+                vk::Format::R32G32B32A32_UINT,
                 |i| item_triangles.get(i).copied().unwrap_or_default(),
             )?,
             item_vertex_count,
@@ -657,8 +659,8 @@ impl Solver {
             pipeline: &self.item_pass,
             bindings: &[
                 Binding::read(ids::RAD_LOCATIONS, &self.locations),
-                Binding::read(ids::RAD_ITEM_VERTICES, &self.item_vertices),
-                Binding::read(ids::RAD_ITEM_TRIANGLES, &self.item_triangles),
+                Binding::texels(ids::RAD_ITEM_VERTICES, &self.item_vertices),
+                Binding::texels(ids::RAD_ITEM_TRIANGLES, &self.item_triangles),
             ],
             push: &ItemPush {
                 camera: camera.map_or([[0.0; 4]; 4], |c| c.clip.to_cols_array_2d()),
