@@ -251,7 +251,13 @@ impl Passes {
                 location: MemoryLocation::GpuToCpu,
                 texels: None,
             })?,
-            tables: texel_tables(gpu, &texels)?,
+            // Two RGBA32F texels a hemisphere texel (reduce.comp).
+            tables: gpu.upload_texel_items(
+                "ic hemisphere tables",
+                texels.len(),
+                vk::Format::R32G32B32A32_SFLOAT,
+                |i| texels[i],
+            )?,
             hemisphere,
             hemisphere_depth,
             batch,
@@ -589,15 +595,4 @@ impl Passes {
             threads: [view.width(), view.height(), 1],
         })
     }
-}
-
-/// The hemisphere tables as the reduction reads them: two RGBA32F texels a hemisphere texel.
-fn texel_tables(gpu: &Gpu, texels: &[[[f32; 4]; 2]]) -> GpuResult<Buffer> {
-    let bytes: &[u8] = bytemuck::cast_slice(texels);
-    let tables = gpu.create_buffer(&BufferDesc::storage_texels(
-        "ic hemisphere tables",
-        bytes.len() as u64,
-    ))?;
-    gpu.write_buffer(&tables, bytes)?;
-    Ok(tables)
 }
