@@ -208,6 +208,18 @@ impl DeviceInfo {
         self.device_type == vk::PhysicalDeviceType::CPU
     }
 
+    /// Refuse, in one line, a method (`method`) whose compute shaders sum across subgroups
+    /// (`what`, the pass that does) on a device without subgroup arithmetic in compute.
+    pub fn require_compute_subgroup_arithmetic(&self, method: &str, what: &str) -> GpuResult<()> {
+        if self.compute_subgroup_arithmetic {
+            return Ok(());
+        }
+        Err(GpuError::Setup(format!(
+            "{method} needs subgroup arithmetic in compute shaders ({what}), which this device ({}) does not offer",
+            self.name
+        )))
+    }
+
     pub fn type_name(&self) -> &'static str {
         match self.device_type {
             vk::PhysicalDeviceType::DISCRETE_GPU => "discrete GPU",

@@ -149,13 +149,10 @@ impl Passes {
             ))
             .into());
         }
-        if !gpu.info.compute_subgroup_arithmetic {
-            return Err(GpuError::Setup(format!(
-                "irradiance-cache needs subgroup arithmetic in compute shaders (its reduction sums each hemisphere in subgroups), which this device ({}) does not offer",
-                gpu.info.name
-            ))
-            .into());
-        }
+        gpu.info.require_compute_subgroup_arithmetic(
+            "irradiance-cache",
+            "its reduction sums each hemisphere in subgroups",
+        )?;
         let none = Specialization::new();
         let compute = |name: &str, spirv: &[u8]| ComputePipeline::new(gpu, name, spirv, &none);
         let pipelines = Pipelines {

@@ -7,12 +7,12 @@ use super::bindings as ids;
 use super::cpu::gather_normals;
 use crate::gi::FrameContext;
 use crate::gi::shared::triangle_ids::TriangleIds;
+use crate::gpu::dispatch::rows_of_workgroups;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder,
     Specialization,
 };
 use crate::scene::Scene;
-use crate::gpu::dispatch::rows_of_workgroups;
 use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
 

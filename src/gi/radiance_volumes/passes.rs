@@ -17,8 +17,8 @@ use super::voxelizer::RasterVoxelizer;
 use super::voxels::VoxelGrid;
 use super::{Bands, VolumeSettings};
 use crate::gi::FrameContext;
-use crate::gpu::dispatch::rows_of_workgroups;
 use crate::gi::shared::rsm::Rsm;
+use crate::gpu::dispatch::rows_of_workgroups;
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder,
     Specialization,

@@ -14,12 +14,12 @@ use super::bindings as ids;
 use super::camera::CameraView;
 use super::elements::{Elements, NO_SURFACE};
 use super::table::StoredTable;
+use crate::gpu::dispatch::{MAX_WORKGROUPS_X, rows_of_workgroups};
 use crate::gpu::{
     Binding, Draw, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
     RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
 };
 use crate::scene::{Light, LightKind, Scene};
-use crate::gpu::dispatch::{MAX_WORKGROUPS_X, rows_of_workgroups};
 use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
 
@@ -275,11 +275,10 @@ impl Solver {
         elements: Elements,
         options: SolverOptions,
     ) -> anyhow::Result<Solver> {
-        anyhow::ensure!(
-            gpu.info.compute_subgroup_arithmetic,
-            "radiosity needs subgroup arithmetic in compute shaders (its stats pass sums each surface in a subgroup), which this device ({}) does not offer",
-            gpu.info.name
-        );
+        gpu.info.require_compute_subgroup_arithmetic(
+            "radiosity",
+            "its stats pass sums each surface in a subgroup",
+        )?;
         let slots = options.locations.max(1);
         let element_count = elements.elements.len().max(1);
         let vec4_bytes = element_count as u64 * 16;
