@@ -2306,7 +2306,7 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
 fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
     use vkgi::gi::lpv::Injection;
     const LIT: &str = "direct lighting + lpv lookup";
-    let gpu = common::gpu();
+    let gpu = common::gpu_with(Some(vkgi::gpu::PixelPasses::Fragment));
     let mut point_lit = Scene::load("cornell").unwrap();
     point_lit.lights[0].kind = vkgi::scene::LightKind::Point;
     let scenes = [
@@ -2517,6 +2517,66 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
         );
     }
     common::assert_no_validation_errors(&gpu);
+}
+
+/// Direct lighting and the lookup in their compute form (a GPU's, `--pixel-passes compute`)
+/// give the image of their fragment form (lavapipe's): the lookup drawn apart as a compute pass
+/// after direct lighting, against the lookup inside direct lighting's fragment pass, for LPV and
+/// ILPV's two scales, both ways of reading the lattices, direct light and indirect alone, in a
+/// matte and a glossy scene, with no validation error.
+#[test]
+fn the_compute_form_of_the_per_pixel_passes_gives_the_image_of_the_fragment_form() {
+    use vkgi::gi::lpv::Injection;
+    use vkgi::gpu::PixelPasses;
+    const LIT: &str = "direct lighting + lpv lookup";
+    let fragment_gpu = common::gpu_with(Some(PixelPasses::Fragment));
+    let compute_gpu = common::gpu_with(Some(PixelPasses::Compute));
+    for name in ["cornell", "cornell-glossy"] {
+        let scene = Scene::load(name).unwrap();
+        for (scheme, indirect_only, lookup_filter) in [
+            (Scheme::Ilpv, false, LookupFilter::Texels),
+            (Scheme::Lpv, false, LookupFilter::Sampler),
+            (Scheme::Ilpv, true, LookupFilter::Sampler),
+            (Scheme::Lpv, true, LookupFilter::Texels),
+        ] {
+            let settings = LpvSettings {
+                scheme,
+                injection: Injection::Fixed,
+                rsm: 64,
+                lookup_filter: Some(lookup_filter),
+                ..LpvSettings::default()
+            };
+            let options = vkgi::render::FrameOptions {
+                width: 40,
+                height: 30,
+                indirect_only,
+                ..vkgi::render::FrameOptions::default()
+            };
+            let run = |gpu: &vkgi::gpu::Gpu| {
+                let (frame, passes) = three_frames(gpu, &scene, options.clone(), settings.clone());
+                (frame.read_hdr(gpu).unwrap(), passes)
+            };
+            let (fragment, fragment_passes) = run(&fragment_gpu);
+            let (compute, compute_passes) = run(&compute_gpu);
+            let case =
+                format!("{name}, {scheme:?}, indirect only {indirect_only}, {lookup_filter:?}");
+            let has = |passes: &[String], pass: &str| passes.iter().any(|p| p == pass);
+            assert!(has(&fragment_passes, LIT), "{case}: {fragment_passes:?}");
+            assert!(
+                has(&compute_passes, "lpv lookup") && !has(&compute_passes, LIT),
+                "{case}: {compute_passes:?}"
+            );
+            assert!(common::mean(&compute) > 0.0, "{case}: black");
+            // One sum instead of the blend's: the same up to the rounding of that sum.
+            let (worst, brightest) = common::worst_difference(&fragment, &compute);
+            assert!(
+                worst <= 1e-6 * brightest,
+                "{case}: the compute form differs by {worst} (brightest {brightest})"
+            );
+        }
+    }
+    common::assert_no_validation_errors(&fragment_gpu);
+    common::assert_no_validation_errors(&compute_gpu);
 }
 
 /// Three timed frames (no warm-up) of LPV `settings` (one lattice or two scales) in `scene`: the

@@ -274,7 +274,7 @@ fn shared_and_looped_lights_give_the_same_direct_light() {
 #[test]
 fn fragment_and_compute_direct_lighting_give_the_same_image() {
     use vkgi::scene::{Light, LightKind};
-    let gpu = common::gpu();
+    let gpu = common::gpu_with(Some(vkgi::gpu::PixelPasses::Fragment));
     let mut scene = Scene::load("cornell").unwrap();
     for (i, material) in scene.materials.iter_mut().enumerate() {
         if i % 2 == 0 {

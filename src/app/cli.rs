@@ -7,7 +7,7 @@ use clap::{Args, Parser, Subcommand};
 
 use super::method_args::{MethodGrid, MethodSettings, method_parser};
 use crate::gi::registry;
-use crate::gpu::GpuOptions;
+use crate::gpu::{GpuOptions, PixelPasses};
 use crate::render::{FrameOptions, SubmitPlan};
 
 /// The most frames `render`, `report` and `profile` run a configuration for (measured, and
@@ -66,6 +66,10 @@ pub struct GpuArgs {
     /// Enable the Khronos validation layers (also VKGI_VALIDATE=1); errors fail the run.
     #[arg(long)]
     pub validate: bool,
+    /// How direct lighting and the LPV lookup run: as fragment or compute passes (default: the
+    /// faster on the device's type, as measured: fragment on a CPU device, compute on a GPU).
+    #[arg(long, value_enum)]
+    pub pixel_passes: Option<PixelPasses>,
 }
 
 impl GpuArgs {
@@ -75,6 +79,7 @@ impl GpuArgs {
             validation: self.validate || from_env,
             device: self.device.clone(),
             display: None,
+            pixel_passes: self.pixel_passes,
         }
     }
 }

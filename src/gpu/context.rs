@@ -27,6 +27,32 @@ pub struct GpuOptions {
     /// Presenting to windows on this display: enables the surface extensions it needs on the
     /// instance and VK_KHR_swapchain on the device.
     pub display: Option<winit::raw_window_handle::RawDisplayHandle>,
+    /// How the per-pixel passes with two forms run (`None`: as [`PixelPasses::for_device`]).
+    pub pixel_passes: Option<PixelPasses>,
+}
+
+/// How the per-pixel passes that have both forms (direct lighting, the LPV lookup) run on a
+/// device. Both forms give the same image up to the rounding of one sum.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum PixelPasses {
+    /// Fragment shaders over a full-screen triangle, writing or blending into render targets.
+    Fragment,
+    /// Compute shaders reading and writing the images as storage images.
+    Compute,
+}
+
+impl PixelPasses {
+    /// The faster form on a device of `device_type`, as measured: on a CPU device (lavapipe) a
+    /// render target's write (and its blend) costs a fraction of a compute pass's imageStore
+    /// (docs/performance.md, "Writing shaders for lavapipe"); a GPU may run fragments on a
+    /// small part of its chip: an NVIDIA H200 lit 1920x1080 in 0.035 ms as a compute pass and in
+    /// 1.19 ms as a fragment pass (docs/performance.md, "Item 4").
+    pub fn for_device(device_type: vk::PhysicalDeviceType) -> PixelPasses {
+        match device_type {
+            vk::PhysicalDeviceType::CPU => PixelPasses::Fragment,
+            _ => PixelPasses::Compute,
+        }
+    }
 }
 
 /// Validation-layer messages seen so far. Tests assert that `error_count()` stays zero.
@@ -175,6 +201,8 @@ pub struct DeviceInfo {
     /// VK_EXT_conservative_rasterization, where the device has it (enabled): raster pipelines
     /// may overestimate coverage (every pixel a triangle touches).
     pub conservative_rasterization: Option<ConservativeRasterization>,
+    /// How the per-pixel passes with two forms run ([`GpuOptions::pixel_passes`]).
+    pub pixel_passes: PixelPasses,
 }
 
 /// How many descriptors of each kind one shader stage may use (maxPerStageDescriptor*), and how
@@ -536,13 +564,14 @@ fn finish_device(
         }
     };
     let created = create_device(&instance, physical, options.display.is_some());
-    let (device, queues, info) = match created {
+    let (device, queues, mut info) = match created {
         Ok(d) => d,
         Err(e) => {
             destroy_instance(debug_messenger);
             return Err(e);
         }
     };
+    info.pixel_passes = options.pixel_passes.unwrap_or(info.pixel_passes);
     let allocator = Allocator::new(&AllocatorCreateDesc {
         instance: instance.clone(),
         device: device.clone(),
@@ -902,6 +931,7 @@ fn create_device(
             degenerate_triangles_rasterized: conservative_props.degenerate_triangles_rasterized
                 == vk::TRUE,
         }),
+        pixel_passes: PixelPasses::for_device(props.device_type),
     };
     Ok((device, plan, info))
 }
@@ -935,6 +965,21 @@ mod tests {
     const CT: vk::QueueFlags = vk::QueueFlags::from_raw(
         vk::QueueFlags::COMPUTE.as_raw() | vk::QueueFlags::TRANSFER.as_raw(),
     );
+
+    /// The per-pixel passes take the fragment form on CPU devices only, where it was measured
+    /// faster (lavapipe); every kind of GPU takes the compute form.
+    #[test]
+    fn only_cpu_devices_run_the_fragment_form_of_the_per_pixel_passes() {
+        use vk::PhysicalDeviceType as T;
+        assert_eq!(PixelPasses::for_device(T::CPU), PixelPasses::Fragment);
+        for gpu in [T::DISCRETE_GPU, T::INTEGRATED_GPU, T::VIRTUAL_GPU, T::OTHER] {
+            assert_eq!(
+                PixelPasses::for_device(gpu),
+                PixelPasses::Compute,
+                "{gpu:?}"
+            );
+        }
+    }
 
     #[test]
     fn one_queue_leaves_no_async_compute_queue() {

@@ -23,7 +23,9 @@ pub mod reflect;
 pub mod scope;
 pub mod swapchain;
 
-pub use context::{ConservativeRasterization, DescriptorLimits, Gpu, GpuOptions, Queue, QueuePlan};
+pub use context::{
+    ConservativeRasterization, DescriptorLimits, Gpu, GpuOptions, PixelPasses, Queue, QueuePlan,
+};
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, Sampler};
 pub use pass::{Binding, ComputePass, Draw, RasterPass, Recorder, ResourceKey, ResourceUse};
 pub use pipeline::{ComputePipeline, RasterPipeline, RasterPipelineDesc, Specialization};

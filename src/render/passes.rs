@@ -7,8 +7,8 @@ use glam::Vec3;
 use super::full_screen::{Blend, full_screen};
 use super::targets::{GBUFFER_FORMATS, HDR_FORMAT, LDR_RENDER_FORMAT, View};
 use crate::gpu::{
-    Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, PushConstants, RasterPass,
-    RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
+    Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, PixelPasses, PushConstants,
+    RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
 };
 use crate::scene::gpu::{SceneBuffers, shadow_view_ranges};
 use crate::scene::{Light, Material, Scene};
@@ -108,20 +108,24 @@ fn most_views(shared_light_views: &[(u32, u32)]) -> u32 {
 pub struct DirectShape(Specialization);
 
 impl DirectShape {
-    /// Direct lighting's shape for `scene` lit by `raster_lights`, when it is a fragment pass
-    /// (None: a compute pass, whose lights do not fit the flat varyings).
-    pub fn of(scene: &Scene, raster_lights: &[Light]) -> Option<DirectShape> {
+    /// Direct lighting's shape for `scene` lit by `raster_lights` on `gpu`, when it is a
+    /// fragment pass (None: a compute pass, where `gpu` runs that form or the lights do not fit
+    /// the flat varyings).
+    pub fn of(gpu: &Gpu, scene: &Scene, raster_lights: &[Light]) -> Option<DirectShape> {
         let (shared_light_views, specialization) = lighting_specialization(scene, raster_lights);
-        Self::fitting(&shared_light_views, specialization)
+        Self::fitting(gpu, &shared_light_views, specialization)
     }
 
     /// The shape of direct lighting specialised as `specialization` for `shared_light_views`,
-    /// when those fit the fragment form's flat varyings.
+    /// when `gpu` runs the fragment form (`DeviceInfo::pixel_passes`) and those fit its flat
+    /// varyings.
     fn fitting(
+        gpu: &Gpu,
         shared_light_views: &[(u32, u32)],
         specialization: Specialization,
     ) -> Option<DirectShape> {
-        let fits = !shared_light_views.is_empty()
+        let fits = gpu.info.pixel_passes == PixelPasses::Fragment
+            && !shared_light_views.is_empty()
             && light_varying_words(shared_light_views) <= ids::LIGHTING_VARYING_WORDS;
         fits.then_some(DirectShape(specialization))
     }
@@ -188,13 +192,14 @@ impl ScenePasses {
     /// The frame's pipelines for `scene` lit by `raster_lights`: direct lighting leaves out
     /// emission or the glossy lobe when no material has it (lavapipe would run that code for
     /// every pixel), reads up to [`MAX_SHARED_LIGHTS`] lights at constant indices, and is a
-    /// fragment pass when those lights and their views fit its varyings. The lights may move
+    /// fragment pass where the device runs that form and those lights and their views fit its
+    /// varyings (a compute pass otherwise). The lights may move
     /// later but not change in number or shadow views.
     pub fn new(gpu: &Gpu, scene: &Scene, raster_lights: &[Light]) -> GpuResult<ScenePasses> {
         let none = Specialization::new();
         let terms = MaterialTerms::of(scene);
         let (shared_light_views, lighting) = lighting_specialization(scene, raster_lights);
-        let shape = DirectShape::fitting(&shared_light_views, lighting.clone());
+        let shape = DirectShape::fitting(gpu, &shared_light_views, lighting.clone());
         let gbuffer_terms = terms.emissive || terms.glossy;
         Ok(ScenePasses {
             lighting: direct_lighting(gpu, shape.is_some(), &lighting)?,

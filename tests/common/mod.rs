@@ -6,16 +6,23 @@ pub mod fuzzing;
 pub mod gltf_fixture;
 
 use vkgi::gpu::frames::FrameRing;
-use vkgi::gpu::{Gpu, GpuOptions};
+use vkgi::gpu::{Gpu, GpuOptions, PixelPasses};
 use vkgi::render::{Frame, FrameOptions};
 use vkgi::scene::Scene;
 
 /// A GPU context with the Khronos validation layers (synchronization validation included).
 pub fn gpu() -> Gpu {
+    gpu_with(None)
+}
+
+/// [`gpu`] running the per-pixel passes with two forms as `pixel_passes` (None: the device's
+/// own choice).
+pub fn gpu_with(pixel_passes: Option<PixelPasses>) -> Gpu {
     Gpu::new(&GpuOptions {
         validation: true,
         device: None,
         display: None,
+        pixel_passes,
     })
     .expect("a Vulkan 1.3 device with validation layers (lavapipe in CI)")
 }

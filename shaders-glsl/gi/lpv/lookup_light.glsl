@@ -5,7 +5,8 @@
 // R, G and B lattices projected on the cosine lobe toward the surface, SH_cos(-n), turned into
 // radiance by the cell area, times albedo / pi. ILPV's two scales look up both lattices, each
 // field clamped at zero on its own. The fields' constants arrive as flat varyings from location
-// LOOKUP_FIELDS_LOCATION on (lpv/lookup_fields.glsl).
+// LOOKUP_FIELDS_LOCATION on (lpv/lookup_fields.glsl), or in the compute form (LOOKUP_COMPUTE 1)
+// from the fields' buffer.
 //
 // How the lattices are read (--lookup-filter, src/gi/lpv/lookup.rs LookupFilter), by the
 // including shader's LOOKUP_TEXELS: 0, 3-D copies of the lattices inside a border of zero cells,
@@ -21,6 +22,9 @@
 #endif
 #ifndef LOOKUP_TEXELS
 #define LOOKUP_TEXELS 0
+#endif
+#ifndef LOOKUP_COMPUTE
+#define LOOKUP_COMPUTE 0
 #endif
 
 // 1: one lattice; 2: the near and the far field of two scales.
@@ -47,7 +51,13 @@ layout(binding = LOOKUP_FAR_LATTICE_B) uniform LATTICE_READS far_lattice_b;
 // The fields' constants (lpv/lookup_fields.glsl), the same for every fragment: per field the
 // corner of what it reads (the images' border included) and the cell size, its cells and
 // whether its texels hold them in columns, and (scale, offset).
+#if LOOKUP_COMPUTE
+// The compute form has no varyings: its main fills these from the fields' buffer
+// (lpv/lookup_fields.glsl's field_words) before it looks anything up.
+vec4 fields[LOOKUP_FIELD_WORDS];
+#else
 layout(location = LOOKUP_FIELDS_LOCATION) flat in vec4 fields[LOOKUP_FIELD_WORDS];
+#endif
 
 #if LOOKUP_TEXELS
 // The trilinear interpolation of the lattices `r`, `g` and `b` of `dims` cells of size `cell` at

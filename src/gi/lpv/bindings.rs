@@ -76,6 +76,8 @@ crate::shared_constants! {
     LOOKUP_FIELD_WORDS: u32 = 6;
     // --lookup-resolution half: the quarter-size image of the lattices' light (lpv/upsample.glsl).
     LOOKUP_HALF_LIGHT: u32 = 23;
+    // The compute form of the lookup apart (lpv/lookup_compute.glsl): the HDR image it adds to.
+    LOOKUP_HDR: u32 = 24;
     // The upsample's weights (lpv/upsample.glsl and its f64 mirror, src/gi/lpv/upsample.rs):
     // the relative distance difference at which a texel's weight reaches zero, the least cosine
     // of a pixel's normal and ray it counts, the sum of weights below which no texel is alike,

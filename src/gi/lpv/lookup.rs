@@ -3,7 +3,9 @@
 //! frame's direct lighting is a fragment pass, the lookup is drawn inside it
 //! (`lpv/lit_lookup.{vert,frag}`): the G-buffer read once for both and the HDR image written
 //! once; else, or when the frame asks (`FrameOptions::lookup_apart`), as a pass of its own
-//! after it (`lpv/lookup.{vert,frag}`).
+//! after it: a fragment pass (`lpv/lookup.{vert,frag}`) or, where the device runs the compute
+//! form of the per-pixel passes (`DeviceInfo::pixel_passes`: GPUs), a compute pass
+//! (`lpv/lookup.comp`).
 //!
 //! At `--lookup-resolution half` the lattices are looked up at every second pixel in x and y
 //! (`lpv/lookup_half.frag`, into a quarter-size image per view) and spread over the pixels by a
@@ -27,8 +29,9 @@ use super::lattice::CellOrder;
 use super::upsample::half_size;
 use crate::gi::{FrameContext, PixelPass};
 use crate::gpu::{
-    Binding, Buffer, Draw, Gpu, GpuError, GpuResult, Image, ImageDesc, PushConstants, RasterPass, RasterPipeline,
-    Recorder, Sampler, Specialization,
+    Binding, Buffer, ComputePass, ComputePipeline, Draw, Gpu, GpuError, GpuResult, Image,
+    ImageDesc, PixelPasses, PushConstants, RasterPass, RasterPipeline, Recorder, Sampler,
+    Specialization,
 };
 use crate::render::full_screen::{Blend, FullScreenShaders, full_screen, full_screen_with};
 use crate::render::passes::{DirectDraw, DirectShape};
@@ -257,11 +260,20 @@ struct HalfLookup {
     images: Vec<Option<Image>>,
 }
 
+/// The lookup (or at half resolution the upsample) as a pass of its own, in the form the device
+/// runs at full resolution (the upsample is a fragment pass everywhere).
+enum Apart {
+    /// A full-screen triangle whose output the blend adds to the HDR image.
+    Fragment(RasterPipeline),
+    /// A compute pass that adds to the HDR image as a storage image.
+    Compute(ComputePipeline),
+}
+
 /// The lookup's pipelines for a number of fields (1 or 2) read one way, its trilinear sampler
 /// where it reads images, and the buffer of the fields' constants.
 pub struct Lookup {
     /// The lookup as a pass of its own (at half resolution, the upsample's).
-    apart: RasterPipeline,
+    apart: Apart,
     /// Direct lighting with the lookup (at half resolution, with the upsample), for direct
     /// lighting of this shape (None: direct lighting is a compute pass for the scene the lookup
     /// was built for).
@@ -311,7 +323,7 @@ impl Lookup {
         let written = field_words(fields);
         let count = fields.len();
         let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32);
-        let shape = DirectShape::of(scene, &scene.raster_lights());
+        let shape = DirectShape::of(gpu, scene, &scene.raster_lights());
         let (apart, lit, half) = match resolution {
             LookupResolution::Full => {
                 let shaders = FullScreenShaders {
@@ -330,7 +342,23 @@ impl Lookup {
                     },
                 };
                 let spec = own(Specialization::new());
-                let apart = full_screen_with(gpu, LOOKUP, shaders, HDR_FORMAT, Blend::Add, &spec)?;
+                let apart = match gpu.info.pixel_passes {
+                    PixelPasses::Fragment => Apart::Fragment(full_screen_with(
+                        gpu,
+                        LOOKUP,
+                        shaders,
+                        HDR_FORMAT,
+                        Blend::Add,
+                        &spec,
+                    )?),
+                    PixelPasses::Compute => {
+                        let shader = match texels {
+                            true => shaders::GI_LPV_LOOKUP_TEXELS_COMP,
+                            false => shaders::GI_LPV_LOOKUP_COMP,
+                        };
+                        Apart::Compute(ComputePipeline::new(gpu, LOOKUP, shader, &spec)?)
+                    }
+                };
                 (apart, lit, None)
             }
             LookupResolution::Half => {
@@ -339,14 +367,14 @@ impl Lookup {
                     fragment: shaders::GI_LPV_LIT_UPSAMPLE_FRAG,
                 };
                 let lit = lit_pipeline(gpu, shape, LIT_UPSAMPLE, shaders, |spec| spec)?;
-                let apart = full_screen(
+                let apart = Apart::Fragment(full_screen(
                     gpu,
                     UPSAMPLE,
                     shaders::GI_LPV_UPSAMPLE_FRAG,
                     HDR_FORMAT,
                     Blend::Add,
                     &Specialization::new(),
-                )?;
+                )?);
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
                     fragment: match texels {
@@ -397,7 +425,12 @@ impl Lookup {
             LookupFilter::Sampler => "3-D images filtered by the sampler",
             LookupFilter::Texels => "the lattices read as texels and interpolated in the shader",
         };
-        format!("lookup: {resolution}; {filter}")
+        let form = match (&self.apart, &self.lit) {
+            (Apart::Compute(_), _) => "; apart, a compute pass",
+            (Apart::Fragment(_), None) => "; apart, a fragment pass",
+            (Apart::Fragment(_), Some(_)) => "",
+        };
+        format!("lookup: {resolution}{form}; {filter}")
     }
 
     /// Fit the lookup's per-view state to view `index` of `views`: at half resolution, its
@@ -518,16 +551,28 @@ impl Lookup {
                 (LOOKUP, &())
             }
         };
-        rec.raster(&RasterPass {
-            name,
-            pipeline: &self.apart,
-            bindings: &bindings,
-            push,
-            color: &[(&view.hdr, 0, [0.0; 4])],
-            depth: None,
-            draw: Draw::Vertices(3),
-            keep_contents: true,
-        })
+        match &self.apart {
+            Apart::Fragment(pipeline) => rec.raster(&RasterPass {
+                name,
+                pipeline,
+                bindings: &bindings,
+                push,
+                color: &[(&view.hdr, 0, [0.0; 4])],
+                depth: None,
+                draw: Draw::Vertices(3),
+                keep_contents: true,
+            }),
+            Apart::Compute(pipeline) => {
+                bindings.push(Binding::image_write(ids::LOOKUP_HDR, &view.hdr));
+                rec.compute(&ComputePass {
+                    name,
+                    pipeline,
+                    bindings: &bindings,
+                    push,
+                    threads: [view.width(), view.height(), 1],
+                })
+            }
+        }
     }
 
     /// Draw `direct` (view `view`'s direct lighting) with `fields`' indirect light added, if
