@@ -2261,6 +2261,8 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
     let mut candidates = vec![
         "tiled separate",
         "tiled fused",
+        "naive separate",
+        "naive fused",
         "column separate",
         "column fused",
         "single-column separate",

@@ -1,7 +1,9 @@
 //! `--kernel auto` and `--channel-plan auto`: which propagation kernel runs, and whether a dispatch
 //! carries one colour channel or all three, is measured on the device, once, and kept.
 //!
-//! The tiled kernel (a shared-memory tile per workgroup) suits GPUs; the column kernels (a
+//! The tiled kernel (a shared-memory tile per workgroup) suits GPUs, and so does the naive one
+//! (neighbours read from global memory) where a large cache holds them (an H200 from 64³ on:
+//! docs/performance.md, "Item 4: the H200"); the column kernels (a
 //! bundle of 2x2 columns of cells, or one column, per thread, their sources in registers and
 //! read as texels) suit CPU devices such as lavapipe, where every storage-buffer load is made
 //! lane by lane: the bundle reads fewer cells a column, the single column keeps fewer, the
@@ -18,8 +20,8 @@
 //! The first lattice of its kind (scheme, lattice size, geometry words, pinned settings, the
 //! lookup's filter, which decides whether its cells may lie in columns) a
 //! process builds on a device times a short propagation of every colour channel with each
-//! candidate (kernel and plan; alternating, each measured run right after an unmeasured one of
-//! its own: [`SIFTING_RUNS`] runs each, then the rest of [`RUNS`] for the candidates whose
+//! candidate (kernel and plan; timed by GPU timestamps, as the profile times passes;
+//! alternating, each measured run right after an unmeasured one of its own: [`SIFTING_RUNS`] runs each, then the rest of [`RUNS`] for the candidates whose
 //! fastest of those came within [`CONTENDING`] of the fastest candidate's, each timed by its
 //! fastest run) and takes the fastest;
 //! a candidate that cannot be built there
@@ -44,6 +46,7 @@ use super::technique::{
     propagation_spirv,
 };
 use crate::gi::registry::Setup;
+use crate::gpu::frames::FrameRing;
 use crate::gpu::{Gpu, GpuResult};
 
 /// Measured propagations of each contending candidate, each right after an unmeasured one of
@@ -119,6 +122,7 @@ fn candidates(gpu: &Gpu, settings: &LpvSettings) -> Vec<(Kernel, ChannelPlan)> {
         Some(kernel) => vec![kernel],
         None => [
             Kernel::Tiled,
+            Kernel::Naive,
             Kernel::Column,
             Kernel::SingleColumn,
             Kernel::SharedRows,
@@ -209,6 +213,8 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     if let (true, Some(e)) = (built.is_empty(), refused) {
         return Err(e);
     }
+    let gpu = setup.gpu;
+    let mut ring = FrameRing::new(gpu, 1)?;
     // Runs alternate between the candidates, so a machine that slows for a while slows all.
     // Each measured run follows an unmeasured one of the same candidate, so that it finds its
     // lattices in the caches as a frame's steps do, not evicted by the other candidates' runs
@@ -216,12 +222,23 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     let fastest = fastest_runs(built.len(), |candidate| {
         let lpv = &mut built[candidate].1;
         setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
+        // Timed on the GPU, as the profile times the passes: a submission and its wait (about
+        // 0.7 ms on an H200, 70 times a 32³ step there) would otherwise decide between kernels
+        // whose steps differ by microseconds. The wall clock stands in where the queue has no
+        // timestamps.
+        ring.profiler.clear();
         let start = Instant::now();
-        setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
+        ring.submit_frame(gpu, &gpu.queues.graphics, &[], |rec| {
+            lpv.record_propagation(rec)
+        })?;
+        ring.finish()?;
+        let wall_ns = start.elapsed().as_secs_f64() * 1e9;
+        let gpu_ns = ring.profiler.report().frame.map(|frame| frame.min_ns);
+        let ns = gpu_ns.filter(|ns| *ns > 0.0).unwrap_or(wall_ns);
         // A lattice may record fewer steps than it is given (ILPV's last step at λ_incr 0,
         // whose light nothing reads): the time is per step recorded.
         let steps = lpv.settings.steps_run().max(1) as f64;
-        Ok(start.elapsed().as_secs_f64() * 1e3 / steps)
+        Ok(ns / 1e6 / steps)
     })?;
     for ((timing, _), ms) in built.iter_mut().zip(fastest) {
         timing.ms = ms;

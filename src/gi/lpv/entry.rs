@@ -99,7 +99,7 @@ const KERNEL: Setting = Setting::new(
         "shared-rows",
     ]),
     "auto",
-    "The propagation kernel: auto (the fastest of tiled, column, single-column and shared-rows on this device, measured once and cached), tiled (a shared-memory tile per workgroup, for GPUs), naive (global memory), column (a bundle of 2x2 columns of cells along z per thread, its sources in registers, for CPU devices), single-column (one column a thread) or shared-rows (one column a thread, each row's cells shared across the subgroup's lanes: CPU devices with subgroup shuffles); all give the same bits",
+    "The propagation kernel: auto (the fastest of every kernel on this device, measured by GPU timestamps once and cached), tiled (a shared-memory tile per workgroup, for GPUs), naive (global memory: GPUs whose cache holds the neighbours), column (a bundle of 2x2 columns of cells along z per thread, its sources in registers, for CPU devices), single-column (one column a thread) or shared-rows (one column a thread, each row's cells shared across the subgroup's lanes: CPU devices with subgroup shuffles); all give the same bits",
 );
 const CHANNEL_PLAN: Setting = Setting::new(
     "channel-plan",
