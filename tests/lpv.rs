@@ -2306,7 +2306,6 @@ fn kernel_and_channel_plan_auto_measure_once_per_device_then_read_their_cache() 
 /// six shadow views do not fit the fragment form's varyings) draws the lookup apart either way.
 #[test]
 fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
-    use vkgi::gi::lpv::Injection;
     const LIT: &str = "direct lighting + lpv lookup";
     let gpu = common::gpu_with(Some(vkgi::gpu::PixelPasses::Fragment));
     let mut point_lit = Scene::load("cornell").unwrap();
@@ -2327,21 +2326,9 @@ fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
             (Scheme::Ilpv, true, LookupFilter::Texels),
             (Scheme::Ilpv, false, LookupFilter::Sampler),
         ] {
-            let settings = LpvSettings {
-                scheme,
-                injection: Injection::Fixed,
-                rsm: 64,
-                lookup_filter: Some(lookup_filter),
-                ..LpvSettings::default()
-            };
+            let settings = lookup_case_settings(scheme, lookup_filter);
             let run = |lookup_apart: bool| {
-                let options = vkgi::render::FrameOptions {
-                    width: 40,
-                    height: 30,
-                    indirect_only,
-                    lookup_apart,
-                    ..vkgi::render::FrameOptions::default()
-                };
+                let options = lookup_case_options(indirect_only, lookup_apart);
                 let (frame, passes) = three_frames(&gpu, scene, options, settings.clone());
                 let ldr = frame.read_ldr(&gpu).unwrap();
                 (frame.read_hdr(&gpu).unwrap(), ldr, passes)
@@ -2361,13 +2348,7 @@ fn the_lookup_inside_direct_lighting_gives_the_image_of_the_lookup_apart() {
                 has(&apart_passes, "lpv lookup") && !has(&apart_passes, LIT),
                 "{case}"
             );
-            assert!(common::mean(&apart) > 0.0, "{case}: black");
-            // One sum instead of the blend's: the same up to the rounding of that sum.
-            let (worst, brightest) = common::worst_difference(&inside, &apart);
-            assert!(
-                worst <= 1e-6 * brightest,
-                "{case}: inside differs from apart by {worst} (brightest {brightest})"
-            );
+            assert_equal_up_to_one_sum(&format!("{case}, inside against apart"), &inside, &apart);
             // The tone map of radiance equal to rounding: 8-bit values apart by at most one.
             let ldr_worst = inside_ldr
                 .iter()
@@ -2528,7 +2509,6 @@ fn the_half_resolution_lookup_is_the_f64_upsample_of_the_full_lookup() {
 /// matte and a glossy scene, with no validation error.
 #[test]
 fn the_compute_form_of_the_per_pixel_passes_gives_the_image_of_the_fragment_form() {
-    use vkgi::gi::lpv::Injection;
     use vkgi::gpu::PixelPasses;
     const LIT: &str = "direct lighting + lpv lookup";
     let fragment_gpu = common::gpu_with(Some(PixelPasses::Fragment));
@@ -2541,19 +2521,8 @@ fn the_compute_form_of_the_per_pixel_passes_gives_the_image_of_the_fragment_form
             (Scheme::Ilpv, true, LookupFilter::Sampler),
             (Scheme::Lpv, true, LookupFilter::Texels),
         ] {
-            let settings = LpvSettings {
-                scheme,
-                injection: Injection::Fixed,
-                rsm: 64,
-                lookup_filter: Some(lookup_filter),
-                ..LpvSettings::default()
-            };
-            let options = vkgi::render::FrameOptions {
-                width: 40,
-                height: 30,
-                indirect_only,
-                ..vkgi::render::FrameOptions::default()
-            };
+            let settings = lookup_case_settings(scheme, lookup_filter);
+            let options = lookup_case_options(indirect_only, false);
             let run = |gpu: &vkgi::gpu::Gpu| {
                 let (frame, passes) = three_frames(gpu, &scene, options.clone(), settings.clone());
                 (frame.read_hdr(gpu).unwrap(), passes)
@@ -2568,17 +2537,49 @@ fn the_compute_form_of_the_per_pixel_passes_gives_the_image_of_the_fragment_form
                 has(&compute_passes, "lpv lookup") && !has(&compute_passes, LIT),
                 "{case}: {compute_passes:?}"
             );
-            assert!(common::mean(&compute) > 0.0, "{case}: black");
-            // One sum instead of the blend's: the same up to the rounding of that sum.
-            let (worst, brightest) = common::worst_difference(&fragment, &compute);
-            assert!(
-                worst <= 1e-6 * brightest,
-                "{case}: the compute form differs by {worst} (brightest {brightest})"
+            assert_equal_up_to_one_sum(
+                &format!("{case}, fragment against compute"),
+                &fragment,
+                &compute,
             );
         }
     }
     common::assert_no_validation_errors(&fragment_gpu);
     common::assert_no_validation_errors(&compute_gpu);
+}
+
+/// The LPV settings of the per-pixel pass comparisons: fixed-point injection (the same sums on
+/// every run), a 64² RSM, the lattices read `lookup_filter`'s way.
+fn lookup_case_settings(scheme: Scheme, lookup_filter: LookupFilter) -> LpvSettings {
+    LpvSettings {
+        scheme,
+        injection: vkgi::gi::lpv::Injection::Fixed,
+        rsm: 64,
+        lookup_filter: Some(lookup_filter),
+        ..LpvSettings::default()
+    }
+}
+
+/// The 40x30 frame of the per-pixel pass comparisons.
+fn lookup_case_options(indirect_only: bool, lookup_apart: bool) -> vkgi::render::FrameOptions {
+    vkgi::render::FrameOptions {
+        width: 40,
+        height: 30,
+        indirect_only,
+        lookup_apart,
+        ..vkgi::render::FrameOptions::default()
+    }
+}
+
+/// Fail `case` unless `b` is lit and equals `a` up to the rounding of one sum (a blend's
+/// against a shader's): 1e-6 of the brightest pixel.
+fn assert_equal_up_to_one_sum(case: &str, a: &[[f32; 3]], b: &[[f32; 3]]) {
+    assert!(common::mean(b) > 0.0, "{case}: black");
+    let (worst, brightest) = common::worst_difference(a, b);
+    assert!(
+        worst <= 1e-6 * brightest,
+        "{case}: differs by {worst} (brightest {brightest})"
+    );
 }
 
 /// Three timed frames (no warm-up) of LPV `settings` (one lattice or two scales) in `scene`: the
