@@ -21,9 +21,10 @@
 //! lookup's filter, which decides whether its cells may lie in columns) a
 //! process builds on a device times a short propagation of every colour channel with each
 //! candidate (kernel and plan; timed by GPU timestamps, as the profile times passes;
-//! alternating, each measured run right after an unmeasured one of its own: [`SIFTING_RUNS`] runs each, then the rest of [`RUNS`] for the candidates whose
-//! fastest of those came within [`CONTENDING`] of the fastest candidate's, each timed by its
-//! fastest run) and takes the fastest;
+//! alternating, each measured run right after an unmeasured one of its own: [`SIFTING_RUNS`]
+//! runs each, then the rest of [`RUNS`] for the candidates whose fastest of those came within
+//! [`CONTENDING`] of the fastest candidate's, each timed by its fastest run) and takes the
+//! fastest;
 //! a candidate that cannot be built there
 //! (no tile fits the shared memory, say) is none. The measurement records the three channels in one command buffer on one queue, so it
 //! does not see separate channels overlap on a device with a compute queue each (pin
@@ -221,7 +222,7 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     // (which, alternating six candidates on lavapipe, ranked LPV's 32³ kernels the wrong way).
     let fastest = fastest_runs(built.len(), |candidate| {
         let lpv = &mut built[candidate].1;
-        setup.gpu.one_shot(|rec| lpv.record_propagation(rec))?;
+        gpu.one_shot(|rec| lpv.record_propagation(rec))?;
         // Timed on the GPU, as the profile times the passes: a submission and its wait (about
         // 0.7 ms on an H200, 70 times a 32³ step there) would otherwise decide between kernels
         // whose steps differ by microseconds. The wall clock stands in where the queue has no
