@@ -7,22 +7,20 @@
 #define LOOKUP_COMPUTE 1
 #include "gi/lpv/lookup_fields.glsl"
 #include "gi/lpv/lookup_light.glsl"
+#include "gi/lpv/lookup_surface.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
-layout(binding = LOOKUP_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
-layout(binding = LOOKUP_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
-layout(binding = LOOKUP_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
 layout(binding = LOOKUP_HDR, rgba32f) uniform image2D hdr;
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(pixel, imageSize(hdr)))) return;
-    vec4 position = imageLoad(gbuffer_position, pixel);
+    vec4 position = surface_position(pixel);
     if (position.w == 0.0) return;
     field_words(fields);
-    vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
-    vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
+    vec3 n = surface_normal(pixel);
+    vec3 albedo = surface_albedo(pixel);
     vec3 value = lattice_radiance(position.xyz, n, albedo);
     imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(value, 0.0));
 }

@@ -6,9 +6,9 @@
 // (lpv/half_light.glsl), for lpv/upsample.glsl to spread over the full-resolution pixels.
 #include "gi/lpv/lookup_light.glsl"
 #include "gi/lpv/half_light.glsl"
+#define LOOKUP_READS_ALBEDO 0
+#include "gi/lpv/lookup_surface.glsl"
 
-layout(binding = LOOKUP_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
-layout(binding = LOOKUP_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
 layout(push_constant) uniform Push {
     vec4 eye;
 } pc;
@@ -17,8 +17,8 @@ layout(location = 0) out uvec4 out_light;
 
 void main() {
     ivec2 pixel = 2 * ivec2(gl_FragCoord.xy);
-    vec4 position = imageLoad(gbuffer_position, pixel);
-    vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
+    vec4 position = surface_position(pixel);
+    vec3 n = surface_normal(pixel);
     vec3 light = lattice_radiance(position.xyz, n, vec3(1.0));
     // Background pixels (w = 0): no light, and a distance no surface is alike to.
     out_light = position.w != 0.0

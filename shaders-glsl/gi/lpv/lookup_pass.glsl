@@ -6,18 +6,16 @@
 // lighting is a compute pass, or when asked to draw the lookup apart; otherwise
 // lpv/lit_lookup.frag adds the same light inside the direct-lighting pass.
 #include "gi/lpv/lookup_light.glsl"
+#include "gi/lpv/lookup_surface.glsl"
 
-layout(binding = LOOKUP_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
-layout(binding = LOOKUP_GBUFFER_NORMAL, rgba16f) readonly uniform image2D gbuffer_normal;
-layout(binding = LOOKUP_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
 // Added to the HDR image by the blend (one plus one).
 layout(location = 0) out vec4 out_indirect;
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    vec4 position = imageLoad(gbuffer_position, pixel);
-    vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
-    vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
+    vec4 position = surface_position(pixel);
+    vec3 n = surface_normal(pixel);
+    vec3 albedo = surface_albedo(pixel);
     vec3 value = lattice_radiance(position.xyz, n, albedo);
     // Background pixels (w = 0) get nothing.
     out_indirect = vec4(position.w != 0.0 ? value : vec3(0.0), 0.0);

@@ -222,24 +222,11 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
     // (which, alternating six candidates on lavapipe, ranked LPV's 32³ kernels the wrong way).
     let fastest = fastest_runs(built.len(), |candidate| {
         let lpv = &mut built[candidate].1;
-        gpu.one_shot(|rec| lpv.record_propagation(rec))?;
-        // Timed on the GPU, as the profile times the passes: a submission and its wait (about
-        // 0.7 ms on an H200, 70 times a 32³ step there) would otherwise decide between kernels
-        // whose steps differ by microseconds. The wall clock stands in where the queue has no
-        // timestamps.
-        ring.profiler.clear();
-        let start = Instant::now();
-        ring.submit_frame(gpu, &gpu.queues.graphics, &[], |rec| {
-            lpv.record_propagation(rec)
-        })?;
-        ring.finish()?;
-        let wall_ns = start.elapsed().as_secs_f64() * 1e9;
-        let gpu_ns = ring.profiler.report().frame.map(|frame| frame.min_ns);
-        let ns = gpu_ns.filter(|ns| *ns > 0.0).unwrap_or(wall_ns);
+        timed_propagation(gpu, &mut ring, lpv)?;
         // A lattice may record fewer steps than it is given (ILPV's last step at λ_incr 0,
         // whose light nothing reads): the time is per step recorded.
         let steps = lpv.settings.steps_run().max(1) as f64;
-        Ok(ns / 1e6 / steps)
+        Ok(timed_propagation(gpu, &mut ring, lpv)? / 1e6 / steps)
     })?;
     for ((timing, _), ms) in built.iter_mut().zip(fastest) {
         timing.ms = ms;
@@ -256,6 +243,22 @@ fn measure(setup: &Setup, settings: &LpvSettings) -> anyhow::Result<Choice> {
         lattice: settings.lattice,
         source: "measured now".into(),
     })
+}
+
+/// Nanoseconds of one submitted propagation of `lpv`, timed on the GPU as the profile times the
+/// passes: a submission and its wait (about 0.7 ms on an H200, 70 times a 32³ step there) would
+/// otherwise decide between kernels whose steps differ by microseconds. The wall clock stands
+/// in where the queue has no timestamps.
+fn timed_propagation(gpu: &Gpu, ring: &mut FrameRing, lpv: &mut Lpv) -> GpuResult<f64> {
+    ring.profiler.clear();
+    let start = Instant::now();
+    ring.submit_frame(gpu, &gpu.queues.graphics, &[], |rec| {
+        lpv.record_propagation(rec)
+    })?;
+    ring.finish()?;
+    let wall_ns = start.elapsed().as_secs_f64() * 1e9;
+    let gpu_ns = ring.profiler.report().frame.map(|frame| frame.min_ns);
+    Ok(gpu_ns.filter(|ns| *ns > 0.0).unwrap_or(wall_ns))
 }
 
 /// The fastest run of each of `candidates`, timed by `run` (the candidate's index to its time):
