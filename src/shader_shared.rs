@@ -66,6 +66,8 @@ shared_constants! {
 
     // ---- tone mapping ----
     TONEMAP_HDR_IN: u32 = 0;
+    // The compute form's output: the 8-bit image's UNORM view (raster/tonemap.comp).
+    TONEMAP_LDR_OUT: u32 = 1;
 
     // ---- reference path tracer ----
     REFERENCE_VERTICES: u32 = 0;

@@ -362,31 +362,44 @@ fn area_light_samples_converge_to_the_path_traced_direct_light() {
     common::assert_no_validation_errors(&gpu);
 }
 
-/// The 8-bit image tone mapping renders through the sRGB view of its target (the attachment
-/// encodes sRGB) is the CPU's tone map of the HDR image (`metrics::tonemap_srgb8`, Reinhard and
-/// the IEC 61966-2-1 curve) within one in every byte, over every value the image spans: a
-/// Cornell box with its light from dim to so bright that the walls near it saturate.
+/// The 8-bit image tone mapping writes, in both its forms (a fragment pass rendering through the
+/// sRGB view of its target, whose attachment encodes sRGB; a compute pass encoding it and
+/// storing to the UNORM view, a GPU's form), is the CPU's tone map of the HDR image
+/// (`metrics::tonemap_srgb8`, Reinhard and the IEC 61966-2-1 curve) within one in every byte,
+/// over every value the image spans: a Cornell box with its light from dim to so bright that
+/// the walls near it saturate.
 #[test]
 fn the_tone_mapped_image_is_the_cpu_tone_map_of_the_hdr_image_within_one() {
+    use vkgi::gpu::PixelPasses;
+    for form in [PixelPasses::Fragment, PixelPasses::Compute] {
+        let gpu = common::gpu_with(Some(form));
+        assert_tone_map_within_one(&gpu, &format!("{form:?}"));
+        common::assert_no_validation_errors(&gpu);
+    }
+}
+
+/// Fail `form` unless `gpu`'s tone map of dim to saturated Cornell boxes is the CPU's within one.
+fn assert_tone_map_within_one(gpu: &vkgi::gpu::Gpu, form: &str) {
     use vkgi::imageio::HdrImage;
-    let gpu = common::gpu();
     let (width, height) = (64u32, 48u32);
     for flux in [0.05f32, 1.0, 20.0] {
         let mut scene = Scene::load("cornell").unwrap();
         scene.lights[0].flux *= flux;
-        let (frame, hdr) = common::render(&gpu, &scene, width, height);
+        let (frame, hdr) = common::render(gpu, &scene, width, height);
         let expected = vkgi::metrics::tonemap_srgb8(&HdrImage::new(width, height, hdr));
-        let ldr = frame.read_ldr(&gpu).unwrap();
+        let ldr = frame.read_ldr(gpu).unwrap();
         let rgb: Vec<u8> = ldr.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
         assert_eq!(rgb.len(), expected.len());
         let worst = rgb.iter().zip(&expected).map(|(a, b)| a.abs_diff(*b)).max();
-        assert!(worst <= Some(1), "flux x{flux}: bytes differ by {worst:?}");
+        assert!(
+            worst <= Some(1),
+            "{form}, flux x{flux}: bytes differ by {worst:?}"
+        );
         let distinct: std::collections::BTreeSet<u8> = rgb.iter().copied().collect();
         assert!(
             distinct.len() > 20,
-            "flux x{flux}: only {} values",
+            "{form}, flux x{flux}: only {} values",
             distinct.len()
         );
     }
-    common::assert_no_validation_errors(&gpu);
 }

@@ -66,8 +66,9 @@ pub struct GpuArgs {
     /// Enable the Khronos validation layers (also VKGI_VALIDATE=1); errors fail the run.
     #[arg(long)]
     pub validate: bool,
-    /// How direct lighting and the LPV lookup run: as fragment or compute passes (default: the
-    /// faster on the device's type, as measured: fragment on a CPU device, compute on a GPU).
+    /// How direct lighting, the LPV lookup and tone mapping run: as fragment or compute passes
+    /// (default: the faster on the device's type, as measured: fragment on a CPU device, compute
+    /// on a GPU).
     #[arg(long, value_enum)]
     pub pixel_passes: Option<PixelPasses>,
 }

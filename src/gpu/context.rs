@@ -31,8 +31,9 @@ pub struct GpuOptions {
     pub pixel_passes: Option<PixelPasses>,
 }
 
-/// How the per-pixel passes that have both forms (direct lighting, the LPV lookup) run on a
-/// device. Both forms give the same image up to the rounding of one sum.
+/// How the per-pixel passes that have both forms (direct lighting, the LPV lookup, tone
+/// mapping) run on a device. Both forms give the same image up to the rounding of one sum (the
+/// tone map's 8-bit image: of one level).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum PixelPasses {
     /// Fragment shaders over a full-screen triangle, writing or blending into render targets.
