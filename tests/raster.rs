@@ -373,19 +373,29 @@ fn the_tone_mapped_image_is_the_cpu_tone_map_of_the_hdr_image_within_one() {
     use vkgi::gpu::PixelPasses;
     for form in [PixelPasses::Fragment, PixelPasses::Compute] {
         let gpu = common::gpu_with(Some(form));
-        assert_tone_map_within_one(&gpu, &format!("{form:?}"));
+        assert_tone_map_within_one(&gpu, form);
         common::assert_no_validation_errors(&gpu);
     }
 }
 
-/// Fail `form` unless `gpu`'s tone map of dim to saturated Cornell boxes is the CPU's within one.
-fn assert_tone_map_within_one(gpu: &vkgi::gpu::Gpu, form: &str) {
+/// Fail unless `gpu`'s tone map, in `form`, of dim to saturated Cornell boxes is the CPU's within
+/// one.
+fn assert_tone_map_within_one(gpu: &vkgi::gpu::Gpu, form: vkgi::gpu::PixelPasses) {
     use vkgi::imageio::HdrImage;
     let (width, height) = (64u32, 48u32);
     for flux in [0.05f32, 1.0, 20.0] {
         let mut scene = Scene::load("cornell").unwrap();
         scene.lights[0].flux *= flux;
         let (frame, hdr) = common::render(gpu, &scene, width, height);
+        let pass = match form {
+            vkgi::gpu::PixelPasses::Fragment => "fragment pass",
+            vkgi::gpu::PixelPasses::Compute => "compute pass",
+        };
+        assert!(
+            frame.tone_map().starts_with(pass),
+            "{form:?}: {}",
+            frame.tone_map()
+        );
         let expected = vkgi::metrics::tonemap_srgb8(&HdrImage::new(width, height, hdr));
         let ldr = frame.read_ldr(gpu).unwrap();
         let rgb: Vec<u8> = ldr.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
@@ -393,12 +403,12 @@ fn assert_tone_map_within_one(gpu: &vkgi::gpu::Gpu, form: &str) {
         let worst = rgb.iter().zip(&expected).map(|(a, b)| a.abs_diff(*b)).max();
         assert!(
             worst <= Some(1),
-            "{form}, flux x{flux}: bytes differ by {worst:?}"
+            "{form:?}, flux x{flux}: bytes differ by {worst:?}"
         );
         let distinct: std::collections::BTreeSet<u8> = rgb.iter().copied().collect();
         assert!(
             distinct.len() > 20,
-            "{form}, flux x{flux}: only {} values",
+            "{form:?}, flux x{flux}: only {} values",
             distinct.len()
         );
     }

@@ -112,6 +112,8 @@ pub struct ProfileResult {
     pub queue_plan: String,
     /// How the frame's direct lighting runs (src/render/passes.rs).
     pub direct_lighting: String,
+    /// How the frame's tone mapping runs (src/render/passes.rs).
+    pub tone_map: String,
     /// The best limits probed over the whole run (each configuration's bounds use its own).
     pub limits: DeviceLimits,
     pub configs: Vec<ConfigSummary>,
@@ -332,6 +334,7 @@ pub fn run(
         driver: gpu.info.driver.clone(),
         queue_plan: gpu.queues.describe(),
         direct_lighting: frame.direct_lighting(),
+        tone_map: frame.tone_map(),
         limits: match run_limits {
             Some(limits) => limits,
             None => probe()?,
@@ -458,6 +461,7 @@ impl ProfileResult {
         let _ = writeln!(out, "device: {} ({})", self.device, self.driver);
         let _ = writeln!(out, "queue plan: {}", self.queue_plan);
         let _ = writeln!(out, "direct lighting: {}", self.direct_lighting);
+        let _ = writeln!(out, "tone map: {}", self.tone_map);
         let _ = writeln!(
             out,
             "device limits, the best of the run: {:.3} GB/s copy bandwidth, {:.2} GFLOP/s FMA rate",

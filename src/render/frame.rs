@@ -273,6 +273,11 @@ impl Frame {
         self.passes.describe_direct_lighting()
     }
 
+    /// How the frame's tone mapping runs (its form).
+    pub fn tone_map(&self) -> String {
+        self.passes.describe_tone_map()
+    }
+
     /// How this frame submits a method's parts (after resolving `SubmitPlan::Auto`).
     pub fn submit_plan(&self) -> SubmitPlan {
         if self.asynchronous {

@@ -271,6 +271,18 @@ impl ScenePasses {
         }
     }
 
+    /// How tone mapping runs, for the profile.
+    pub fn describe_tone_map(&self) -> String {
+        match self.tonemap {
+            ToneMap::Fragment(_) => {
+                "fragment pass, rendering through the 8-bit image's sRGB view".into()
+            }
+            ToneMap::Compute(_) => {
+                "compute pass, encoding sRGB and storing to the 8-bit image".into()
+            }
+        }
+    }
+
     /// Shadow maps: one depth layer per shadow view.
     pub fn record_shadows(
         &self,
