@@ -383,14 +383,14 @@ fn the_tone_mapped_image_is_the_cpu_tone_map_of_the_hdr_image_within_one() {
 fn assert_tone_map_within_one(gpu: &vkgi::gpu::Gpu, form: vkgi::gpu::PixelPasses) {
     use vkgi::imageio::HdrImage;
     let (width, height) = (64u32, 48u32);
+    let pass = match form {
+        vkgi::gpu::PixelPasses::Fragment => "fragment pass",
+        vkgi::gpu::PixelPasses::Compute => "compute pass",
+    };
     for flux in [0.05f32, 1.0, 20.0] {
         let mut scene = Scene::load("cornell").unwrap();
         scene.lights[0].flux *= flux;
         let (frame, hdr) = common::render(gpu, &scene, width, height);
-        let pass = match form {
-            vkgi::gpu::PixelPasses::Fragment => "fragment pass",
-            vkgi::gpu::PixelPasses::Compute => "compute pass",
-        };
         assert!(
             frame.tone_map().starts_with(pass),
             "{form:?}: {}",
