@@ -199,6 +199,9 @@ pub struct DeviceInfo {
     /// Compute shaders may reduce values across a subgroup (the compute stage with the basic
     /// and arithmetic subgroup operations).
     pub compute_subgroup_arithmetic: bool,
+    /// Fragment and compute shaders may ballot, vote and shuffle across a subgroup (both stages
+    /// with the basic, ballot, vote and shuffle subgroup operations).
+    pub pixel_subgroup_shuffles: bool,
     /// VK_EXT_conservative_rasterization, where the device has it (enabled): raster pipelines
     /// may overestimate coverage (every pixel a triangle touches).
     pub conservative_rasterization: Option<ConservativeRasterization>,
@@ -883,15 +886,15 @@ fn create_device(
     let props = props2.properties;
     let limits = props.limits;
     let c_str = |s: Result<&CStr, _>| s.map(|s: &CStr| s.to_string_lossy().into_owned());
-    // Compute shaders may use the basic subgroup operations and `operations`.
-    let compute_subgroups = |operations: vk::SubgroupFeatureFlags| {
-        subgroup_props
-            .supported_stages
-            .contains(vk::ShaderStageFlags::COMPUTE)
+    // Shaders of `stages` may use the basic subgroup operations and `operations`.
+    let subgroups = |stages: vk::ShaderStageFlags, operations: vk::SubgroupFeatureFlags| {
+        subgroup_props.supported_stages.contains(stages)
             && subgroup_props
                 .supported_operations
                 .contains(vk::SubgroupFeatureFlags::BASIC | operations)
     };
+    let compute_subgroups =
+        |operations: vk::SubgroupFeatureFlags| subgroups(vk::ShaderStageFlags::COMPUTE, operations);
     let info = DeviceInfo {
         name: c_str(props.device_name_as_c_str()).unwrap_or_default(),
         device_type: props.device_type,
@@ -927,6 +930,12 @@ fn create_device(
         subgroup_size: subgroup_props.subgroup_size,
         compute_subgroup_shuffles: compute_subgroups(vk::SubgroupFeatureFlags::SHUFFLE),
         compute_subgroup_arithmetic: compute_subgroups(vk::SubgroupFeatureFlags::ARITHMETIC),
+        pixel_subgroup_shuffles: subgroups(
+            vk::ShaderStageFlags::FRAGMENT | vk::ShaderStageFlags::COMPUTE,
+            vk::SubgroupFeatureFlags::BALLOT
+                | vk::SubgroupFeatureFlags::VOTE
+                | vk::SubgroupFeatureFlags::SHUFFLE,
+        ),
         conservative_rasterization: conservative.then_some(ConservativeRasterization {
             max_extra_overestimation: conservative_props.max_extra_primitive_overestimation_size,
             degenerate_triangles_rasterized: conservative_props.degenerate_triangles_rasterized

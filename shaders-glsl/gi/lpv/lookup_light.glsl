@@ -12,7 +12,9 @@
 // including shader's LOOKUP_TEXELS: 0, 3-D copies of the lattices inside a border of zero cells,
 // which the sampler filters trilinearly (one fetch per channel: a GPU's texture unit); 1, the
 // lattice buffers themselves as texels, the eight cells around the point fetched and weighted
-// here (lavapipe filters a 3-D image in software, at about twice the cost of these fetches).
+// here (lavapipe filters a 3-D image in software, at about twice the cost of these fetches),
+// each pixel fetching its own eight, or with LOOKUP_SHARED_CORNERS 1 the subgroup's lanes
+// fetching them together.
 #extension GL_EXT_control_flow_attributes : require
 #include "common/math.glsl"
 #include "gi/shared/sh.glsl"
@@ -25,6 +27,10 @@
 #endif
 #ifndef LOOKUP_COMPUTE
 #define LOOKUP_COMPUTE 0
+#endif
+// With LOOKUP_TEXELS, 1: the subgroup's lanes share the fetches of the cells around their points.
+#ifndef LOOKUP_SHARED_CORNERS
+#define LOOKUP_SHARED_CORNERS 0
 #endif
 
 // 1: one lattice; 2: the near and the far field of two scales.
@@ -60,41 +66,118 @@ layout(location = LOOKUP_FIELDS_LOCATION) flat in vec4 fields[LOOKUP_FIELD_WORDS
 #endif
 
 #if LOOKUP_TEXELS
-// The trilinear interpolation of the lattices `r`, `g` and `b` of `dims` cells of size `cell` at
-// `d` from their corner, their cells in columns (z fastest) or rows; cells outside the lattice
-// count as empty (their weight zero, their index clamped inside).
-mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, float cell, vec3 dims,
-                   bool columns) {
+// The eight cells around a point: the cell below it on every axis (which may lie outside the
+// lattice) and each axis's weights of that cell and the next (zero for a cell outside).
+struct Corners {
+    ivec3 base;
+    vec2 wx;
+    vec2 wy;
+    vec2 wz;
+};
+
+// The cells around the point at `d` from the corner of a lattice of `dims` cells of size
+// `cell`.
+Corners corners_around(vec3 d, float cell, vec3 dims) {
     // Cell c's centre lies at u = c.
     vec3 u = d / cell - 0.5;
     vec3 base = floor(u);
     vec3 f = u - base;
     vec3 low = (1.0 - f) * step(0.0, base) * step(base, dims - 1.0);
     vec3 high = f * step(-1.0, base) * step(base, dims - 2.0);
+    return Corners(ivec3(base), vec2(low.x, high.x), vec2(low.y, high.y), vec2(low.z, high.z));
+}
+
+// Corner k (0-7: x fastest, then y, then z) of the cells above `base`, as an offset.
+ivec3 corner_offset(uint k) {
+    return ivec3(k & 1u, (k >> 1u) & 1u, k >> 2u);
+}
+
+// Corner k's weight in `c`.
+float corner_weight(Corners c, uint k) {
+    return c.wz[k >> 2u] * c.wy[(k >> 1u) & 1u] * c.wx[k & 1u];
+}
+
+// The texel of cell `base + offset`, clamped inside a lattice of `n` cells whose neighbours lie
+// `strides` apart (a clamped cell's weight is zero).
+int corner_texel(ivec3 base, ivec3 offset, ivec3 n, ivec3 strides) {
+    ivec3 c = clamp(base + offset, ivec3(0), n - 1);
+    return c.x * strides.x + c.y * strides.y + c.z * strides.z;
+}
+
+#if LOOKUP_SHARED_CORNERS
+#extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_KHR_shader_subgroup_shuffle : require
+#extension GL_KHR_shader_subgroup_vote : require
+// The trilinear interpolation of the lattices `r`, `g` and `b` of `dims` cells of size `cell` at
+// `d` from their corner, their cells in columns or rows, as the per-pixel form below computes it
+// (the same corners, weights and order of sums), the fetches shared across the subgroup
+// (--lookup-filter shared-texels): neighbouring pixels mostly lie among the same eight cells, so
+// lane k (0-7) fetches corner k of the first waiting lane's cells, every lane whose point lies
+// among them takes all eight by shuffles, and the next waiting lane leads the next round. A
+// subgroup usually needs one round: 3 fetches a lane where the per-pixel form makes 24. A
+// subgroup with inactive lanes cannot lend their fetches, so there each lane fetches its own
+// eight corners, one a round.
+mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, float cell, vec3 dims,
+                   bool columns) {
+    Corners c = corners_around(d, cell, dims);
     ivec3 n = ivec3(dims);
-    ivec3 first = clamp(ivec3(base), ivec3(0), n - 1);
-    ivec3 second = clamp(ivec3(base) + 1, ivec3(0), n - 1);
-    ivec3 s = cell_strides(n, columns);
-    int x[2] = int[2](first.x * s.x, second.x * s.x);
-    int y[2] = int[2](first.y * s.y, second.y * s.y);
-    int z[2] = int[2](first.z * s.z, second.z * s.z);
-    vec2 wx = vec2(low.x, high.x);
-    vec2 wy = vec2(low.y, high.y);
-    vec2 wz = vec2(low.z, high.z);
+    ivec3 strides = cell_strides(n, columns);
+    bool whole = subgroupBallotBitCount(subgroupBallot(true)) == gl_SubgroupSize;
+    ivec3 lent = corner_offset(gl_SubgroupInvocationID & 7u);
     mat3x4 sum = mat3x4(0.0);
-    [[unroll]] for (int k = 0; k < 2; ++k) {
-        [[unroll]] for (int j = 0; j < 2; ++j) {
-            [[unroll]] for (int i = 0; i < 2; ++i) {
-                int index = z[k] + y[j] + x[i];
-                float w = wz[k] * wy[j] * wx[i];
-                sum[0] += w * texelFetch(r, index);
-                sum[1] += w * texelFetch(g, index);
-                sum[2] += w * texelFetch(b, index);
+    bool served = false;
+    // In a subgroup short of lanes, the corner a lane fetches next.
+    uint own = 0u;
+    do {
+        ivec3 lead = subgroupShuffle(c.base, subgroupBallotFindLSB(subgroupBallot(!served)));
+        int texel = whole ? corner_texel(lead, lent, n, strides)
+                          : corner_texel(c.base, corner_offset(own), n, strides);
+        vec4 tr = texelFetch(r, texel);
+        vec4 tg = texelFetch(g, texel);
+        vec4 tb = texelFetch(b, texel);
+        if (whole) {
+            mat3x4 lead_sum = mat3x4(0.0);
+            [[unroll]] for (uint k = 0u; k < 8u; ++k) {
+                float w = corner_weight(c, k);
+                lead_sum[0] += w * subgroupShuffle(tr, k);
+                lead_sum[1] += w * subgroupShuffle(tg, k);
+                lead_sum[2] += w * subgroupShuffle(tb, k);
             }
+            if (!served && all(equal(c.base, lead))) {
+                sum = lead_sum;
+                served = true;
+            }
+        } else {
+            float w = corner_weight(c, own);
+            sum[0] += w * tr;
+            sum[1] += w * tg;
+            sum[2] += w * tb;
+            own += 1u;
+            served = own == 8u;
         }
+    } while (subgroupAny(!served));
+    return sum;
+}
+#else
+// The trilinear interpolation of the lattices `r`, `g` and `b` of `dims` cells of size `cell` at
+// `d` from their corner, their cells in columns (z fastest) or rows; cells outside the lattice
+// count as empty (their weight zero, their index clamped inside).
+mat3x4 interpolate(samplerBuffer r, samplerBuffer g, samplerBuffer b, vec3 d, float cell, vec3 dims,
+                   bool columns) {
+    Corners c = corners_around(d, cell, dims);
+    ivec3 n = ivec3(dims);
+    ivec3 strides = cell_strides(n, columns);
+    mat3x4 sum = mat3x4(0.0);
+    [[unroll]] for (uint k = 0u; k < 8u; ++k) {
+        int texel = corner_texel(c.base, corner_offset(k), n, strides);
+        float w = corner_weight(c, k);
+        sum[0] += w * texelFetch(r, texel);
+        sum[1] += w * texelFetch(g, texel);
+        sum[2] += w * texelFetch(b, texel);
     }
     return sum;
 }
+#endif
 #else
 // The sampler's trilinear filter of the images `r`, `g` and `b` of `dims` texels of size `cell`
 // at `d` from their corner (images hold rows: `columns` is false).

@@ -159,9 +159,9 @@ const LOOKUP_RESOLUTION: Setting = Setting::new(
 .approximating("half", "full");
 const LOOKUP_FILTER: Setting = Setting::new(
     "lookup-filter",
-    Kind::Choice(&["auto", "sampler", "texels"]),
+    Kind::Choice(&["auto", "sampler", "texels", "shared-texels"]),
     "auto",
-    "How the lookup interpolates the lattices: auto (texels on a CPU device, sampler elsewhere), sampler (copies of the lattices as 3-D images the sampler filters: one fetch per channel, the texture unit's work on a GPU) or texels (the lattices read as texels and interpolated in the shader: eight fetches per channel, about twice as fast as lavapipe's software filter); the same light within float rounding",
+    "How the lookup interpolates the lattices: auto (shared-texels on a CPU device whose shaders can ballot, vote and shuffle across a subgroup, texels on another CPU device, sampler elsewhere), sampler (copies of the lattices as 3-D images the sampler filters: one fetch per channel, the texture unit's work on a GPU), texels (the lattices read as texels and interpolated in the shader: eight fetches per channel, about twice as fast as lavapipe's software filter) or shared-texels (texels, each subgroup's lanes fetching the cells around their points together: usually three fetches a lane); the texel forms give the same bits, the sampler the same light within float rounding",
 );
 const ILPV_LOOKUP: Setting = Setting::new(
     "ilpv-lookup",
@@ -360,6 +360,7 @@ pub fn lpv_settings(scheme: Scheme, s: &Settings) -> Result<LpvSettings, InputEr
         lookup_filter: match s.has("lookup-filter").then(|| s.text("lookup-filter")).transpose()? {
             Some("sampler") => Some(LookupFilter::Sampler),
             Some("texels") => Some(LookupFilter::Texels),
+            Some("shared-texels") => Some(LookupFilter::SharedTexels),
             Some(_) => None,
             None => defaults.lookup_filter,
         },

@@ -13,12 +13,13 @@
 //! [`super::upsample`]), drawn inside direct lighting or apart as above; `vkgi report` scores
 //! its error against full resolution.
 //!
-//! The lattices are read one of two ways ([`LookupFilter`], `--lookup-filter`): copied into 3-D
+//! The lattices are read one of three ways ([`LookupFilter`], `--lookup-filter`): copied into 3-D
 //! images inside a border of zero cells that the sampler filters trilinearly (one fetch per
 //! channel, the texture unit's work on a GPU), or the lattice buffers read as texels and
 //! interpolated in the shader (eight fetches per channel, which lavapipe runs in about half the
-//! time of its software filter; docs/performance.md). The two give the same light within float
-//! rounding.
+//! time of its software filter; docs/performance.md), each pixel fetching its own or the lanes
+//! of a subgroup fetching the cells around their points together. The texel forms give the same
+//! bits, and the sampler the same light within float rounding.
 
 use ash::vk;
 use glam::Vec3;
@@ -133,19 +134,68 @@ pub enum LookupFilter {
     /// Copies of the lattices as 3-D images that the sampler filters trilinearly.
     Sampler,
     /// The lattice buffers read as texels, the eight cells around a point weighted in the
-    /// shader.
+    /// shader, each pixel fetching its own.
     Texels,
+    /// As [`LookupFilter::Texels`], the fetches shared across a subgroup: each lane fetches one
+    /// of the eight cells around the first waiting lane's point and every lane whose point lies
+    /// among them takes all eight by shuffles, a round for each set of cells the subgroup's
+    /// points need (usually one: three fetches a lane instead of 24). The same sums in the same
+    /// order as the per-pixel form: the same bits.
+    SharedTexels,
 }
 
 impl LookupFilter {
-    /// `--lookup-filter auto`: texels on a CPU device, whose sampler filters in software, and the
-    /// sampler on a GPU.
+    /// `--lookup-filter auto`: on a CPU device, whose sampler filters in software, texels shared
+    /// across the subgroup where its fragment and compute shaders can ballot, vote and shuffle
+    /// (else texels); the sampler on a GPU.
     pub fn for_device(gpu: &Gpu) -> LookupFilter {
-        match gpu.info.is_cpu() {
-            true => LookupFilter::Texels,
-            false => LookupFilter::Sampler,
+        match (gpu.info.is_cpu(), gpu.info.pixel_subgroup_shuffles) {
+            (true, true) => LookupFilter::SharedTexels,
+            (true, false) => LookupFilter::Texels,
+            (false, _) => LookupFilter::Sampler,
         }
     }
+
+    /// The lookup reads the lattice buffers as texels (not 3-D images).
+    pub fn reads_texels(self) -> bool {
+        self != LookupFilter::Sampler
+    }
+
+    /// The lookup's shaders that read the lattices this way.
+    fn shaders(self) -> FilterShaders {
+        match self {
+            LookupFilter::Sampler => FilterShaders {
+                lit: shaders::GI_LPV_LIT_LOOKUP_FRAG,
+                apart: shaders::GI_LPV_LOOKUP_FRAG,
+                apart_compute: shaders::GI_LPV_LOOKUP_COMP,
+                half: shaders::GI_LPV_LOOKUP_HALF_FRAG,
+            },
+            LookupFilter::Texels => FilterShaders {
+                lit: shaders::GI_LPV_LIT_LOOKUP_TEXELS_FRAG,
+                apart: shaders::GI_LPV_LOOKUP_TEXELS_FRAG,
+                apart_compute: shaders::GI_LPV_LOOKUP_TEXELS_COMP,
+                half: shaders::GI_LPV_LOOKUP_HALF_TEXELS_FRAG,
+            },
+            LookupFilter::SharedTexels => FilterShaders {
+                lit: shaders::GI_LPV_LIT_LOOKUP_SHARED_TEXELS_FRAG,
+                apart: shaders::GI_LPV_LOOKUP_SHARED_TEXELS_FRAG,
+                apart_compute: shaders::GI_LPV_LOOKUP_SHARED_TEXELS_COMP,
+                half: shaders::GI_LPV_LOOKUP_HALF_SHARED_TEXELS_FRAG,
+            },
+        }
+    }
+}
+
+/// The fragment (or compute) shaders of the lookup's passes for one [`LookupFilter`].
+struct FilterShaders {
+    /// Direct lighting with the lookup (`lpv/lit_lookup*.frag`).
+    lit: &'static [u8],
+    /// The lookup apart, a fragment pass (`lpv/lookup*.frag`).
+    apart: &'static [u8],
+    /// The lookup apart, a compute pass (`lpv/lookup*.comp`).
+    apart_compute: &'static [u8],
+    /// The lookup at half resolution (`lpv/lookup_half*.frag`).
+    half: &'static [u8],
 }
 
 /// What the lookup reads of one lattice, by its [`LookupFilter`].
@@ -158,11 +208,9 @@ pub enum LatticeReads<'a> {
 }
 
 impl LatticeReads<'_> {
-    fn filter(&self) -> LookupFilter {
-        match self {
-            LatticeReads::Images(_) => LookupFilter::Sampler,
-            LatticeReads::Texels(_) => LookupFilter::Texels,
-        }
+    /// These are the lattice buffers, read as texels.
+    fn are_texels(&self) -> bool {
+        matches!(self, LatticeReads::Texels(_))
     }
 
     /// Cells of zero around the lattice in what is read.
@@ -294,12 +342,14 @@ pub struct Lookup {
 }
 
 impl Lookup {
-    /// The lookup of `fields` (one or two, read the same way) in `scene`, at `resolution`.
+    /// The lookup of `fields` (one or two, read the same way: `filter`'s) in `scene`, at
+    /// `resolution`.
     pub fn new(
         gpu: &Gpu,
         scene: &Scene,
         fields: &[LookupField],
         resolution: LookupResolution,
+        filter: LookupFilter,
     ) -> GpuResult<Lookup> {
         if !matches!(fields.len(), 1 | 2) {
             return Err(GpuError::Setup(format!(
@@ -307,13 +357,13 @@ impl Lookup {
                 fields.len()
             )));
         }
-        let filter = fields[0].lattices.filter();
-        if fields.iter().any(|f| f.lattices.filter() != filter) {
+        let texels = filter.reads_texels();
+        if fields.iter().any(|f| f.lattices.are_texels() != texels) {
             return Err(GpuError::Setup(
-                "the fields of one lookup must be read the same way".into(),
+                "the fields of one lookup must be read the lookup's way".into(),
             ));
         }
-        let texels = filter == LookupFilter::Texels;
+        let filter_shaders = filter.shaders();
         let columns = |f: &LookupField| f.cell_order == CellOrder::Columns;
         if !texels && fields.iter().any(columns) {
             return Err(GpuError::Setup(
@@ -328,18 +378,12 @@ impl Lookup {
             LookupResolution::Full => {
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
-                    fragment: match texels {
-                        true => shaders::GI_LPV_LIT_LOOKUP_TEXELS_FRAG,
-                        false => shaders::GI_LPV_LIT_LOOKUP_FRAG,
-                    },
+                    fragment: filter_shaders.lit,
                 };
                 let lit = lit_pipeline(gpu, shape, LIT_LOOKUP, shaders, own)?;
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
-                    fragment: match texels {
-                        true => shaders::GI_LPV_LOOKUP_TEXELS_FRAG,
-                        false => shaders::GI_LPV_LOOKUP_FRAG,
-                    },
+                    fragment: filter_shaders.apart,
                 };
                 let spec = own(Specialization::new());
                 let apart = match gpu.info.pixel_passes {
@@ -351,13 +395,12 @@ impl Lookup {
                         Blend::Add,
                         &spec,
                     )?),
-                    PixelPasses::Compute => {
-                        let shader = match texels {
-                            true => shaders::GI_LPV_LOOKUP_TEXELS_COMP,
-                            false => shaders::GI_LPV_LOOKUP_COMP,
-                        };
-                        Apart::Compute(ComputePipeline::new(gpu, LOOKUP, shader, &spec)?)
-                    }
+                    PixelPasses::Compute => Apart::Compute(ComputePipeline::new(
+                        gpu,
+                        LOOKUP,
+                        filter_shaders.apart_compute,
+                        &spec,
+                    )?),
                 };
                 (apart, lit, None)
             }
@@ -377,10 +420,7 @@ impl Lookup {
                 )?);
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
-                    fragment: match texels {
-                        true => shaders::GI_LPV_LOOKUP_HALF_TEXELS_FRAG,
-                        false => shaders::GI_LPV_LOOKUP_HALF_FRAG,
-                    },
+                    fragment: filter_shaders.half,
                 };
                 let spec = own(Specialization::new());
                 let pipeline = full_screen_with(
@@ -407,7 +447,7 @@ impl Lookup {
                 LookupFilter::Sampler => Some(
                     gpu.create_sampler(vk::Filter::LINEAR, vk::SamplerAddressMode::CLAMP_TO_EDGE)?,
                 ),
-                LookupFilter::Texels => None,
+                LookupFilter::Texels | LookupFilter::SharedTexels => None,
             },
             words: gpu.upload_storage("lookup fields", bytemuck::bytes_of(&written))?,
             written,
@@ -424,6 +464,9 @@ impl Lookup {
         let filter = match self.filter {
             LookupFilter::Sampler => "3-D images filtered by the sampler",
             LookupFilter::Texels => "the lattices read as texels and interpolated in the shader",
+            LookupFilter::SharedTexels => {
+                "the lattices read as texels and interpolated in the shader, each subgroup's lanes fetching the cells around their points together"
+            }
         };
         let form = match (&self.apart, &self.lit) {
             (Apart::Compute(_), _) => "; apart, a compute pass",

@@ -836,6 +836,8 @@ pub struct Lpv {
     /// The lookup pass of a lattice looked up on its own (None: two scales look up both of
     /// theirs in one pass).
     lookup: Option<Lookup>,
+    /// How the lookup reads this lattice.
+    pub(super) lookup_filter: LookupFilter,
     /// With [`LookupFilter::Sampler`], what the lookup samples: per channel, a copy of its
     /// result lattice as a 3-D image inside a border of `LOOKUP_BORDER` zero cells, read with
     /// the sampler's trilinear filter (one fetch instead of eight). None: the lookup reads the
@@ -930,7 +932,14 @@ fn check_lookup_limits(
                 );
             }
         }
-        LookupFilter::Texels => {
+        LookupFilter::SharedTexels if !gpu.info.pixel_subgroup_shuffles => {
+            return Err(InputError::new(format!(
+                "--lookup-filter shared-texels needs subgroup ballots, votes and shuffles in fragment and compute shaders, which this device ({}) does not offer (--lookup-filter texels does not)",
+                gpu.info.name
+            ))
+            .into());
+        }
+        LookupFilter::Texels | LookupFilter::SharedTexels => {
             let limit = gpu.info.max_texel_buffer_elements;
             if lattice.cell_count() > limit as usize {
                 let instead = match kernel_texels {
@@ -975,7 +984,13 @@ impl Lpv {
         settings.validate()?;
         let mut lpv = Self::with_field(setup, settings, Field::Whole)?;
         let resolution = lpv.settings.lookup_resolution;
-        let lookup = Lookup::new(setup.gpu, setup.scene, &[lpv.lookup_field()], resolution)?;
+        let lookup = Lookup::new(
+            setup.gpu,
+            setup.scene,
+            &[lpv.lookup_field()],
+            resolution,
+            lpv.lookup_filter,
+        )?;
         lpv.lookup = Some(lookup);
         Ok(lpv)
     }
@@ -1138,7 +1153,7 @@ impl Lpv {
         // accumulation as texel buffers.
         // So does the lookup, with --lookup-filter texels.
         let texels = kernel.reads_texels();
-        let lattice_texels = texels || lookup_filter == LookupFilter::Texels;
+        let lattice_texels = texels || lookup_filter.reads_texels();
         let storage = |name: &str, bytes: usize, texels: bool| match texels {
             true => gpu.create_buffer(&BufferDesc::storage_texels(name, bytes as u64)),
             false => gpu.create_buffer(&BufferDesc::storage(name, bytes as u64)),
@@ -1153,7 +1168,7 @@ impl Lpv {
         let lattices = [channel_pair(0)?, channel_pair(1)?, channel_pair(2)?];
         let lookup_images = match lookup_filter {
             LookupFilter::Sampler => Some(create_lookup_images(gpu, &lattice)?),
-            LookupFilter::Texels => None,
+            LookupFilter::Texels | LookupFilter::SharedTexels => None,
         };
         let fixed = match settings.injection {
             Injection::Float => None,
@@ -1241,6 +1256,7 @@ impl Lpv {
             )?,
             step_pipelines,
             lookup: None,
+            lookup_filter,
             lookup_images,
             rsm,
             propagate_pass: match field {

@@ -62,6 +62,7 @@ impl TwoScale {
             setup.scene,
             &[near.lookup_field(), far.lookup_field()],
             near.settings.lookup_resolution,
+            near.lookup_filter,
         )?;
         Ok(TwoScale { near, far, lookup })
     }

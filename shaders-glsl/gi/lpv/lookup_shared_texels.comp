@@ -1,0 +1,7 @@
+#version 460
+// The lookup as a compute pass (lpv/lookup_compute.glsl), the lattices read as texels and
+// interpolated in the shader, the fetches shared across the subgroup (--lookup-filter
+// shared-texels, lpv/lookup_light.glsl).
+#define LOOKUP_TEXELS 1
+#define LOOKUP_SHARED_CORNERS 1
+#include "gi/lpv/lookup_compute.glsl"
