@@ -2168,8 +2168,9 @@ fn assert_lookup_matches(gpu: &vkgi::gpu::Gpu, name: &str, fields: &[&Lpv], r: &
     );
 }
 
-/// The lookup, reading the lattices either way (3-D copies the sampler filters, or the lattice
-/// buffers as texels interpolated in the shader; the accumulation, and ILPV's final lattice,
+/// The lookup, reading the lattices each way (3-D copies the sampler filters, or the lattice
+/// buffers as texels interpolated in the shader, each pixel fetching its own or the subgroup's
+/// lanes fetching them together; the accumulation, and ILPV's final lattice,
 /// one of a ping-pong pair), and two scales looking up both lattices in one pass: all against
 /// the f64 lookup of the same lattices and G-buffer. lavapipe filters with
 /// float weights; a GPU's sampler has its subTexelPrecisionBits (8 on most), whose error this
@@ -2179,7 +2180,11 @@ fn the_lookup_matches_an_f64_lookup_of_the_same_lattices_with_one_and_two_scales
     let gpu = common::gpu();
     let scene = Scene::load("cornell").unwrap();
     let setup = Setup::new(&gpu, &scene);
-    for filter in [LookupFilter::Sampler, LookupFilter::Texels] {
+    for filter in [
+        LookupFilter::Sampler,
+        LookupFilter::Texels,
+        LookupFilter::SharedTexels,
+    ] {
         let settings = LpvSettings {
             lookup_filter: Some(filter),
             ..ilpv(10)
@@ -2546,6 +2551,96 @@ fn the_compute_form_of_the_per_pixel_passes_gives_the_image_of_the_fragment_form
     }
     common::assert_no_validation_errors(&fragment_gpu);
     common::assert_no_validation_errors(&compute_gpu);
+}
+
+/// The lookup with texels shared across the subgroup (`--lookup-filter shared-texels`, the
+/// default on lavapipe) gives the bits of the per-pixel texel lookup: LPV and ILPV's two scales,
+/// inside direct lighting and apart, in the fragment and the compute form, at full and half
+/// resolution, at 41x31, whose last column and row leave lanes of their batches without a pixel
+/// (and the compute form's background pixels leave theirs), with no validation error.
+#[test]
+fn texels_shared_across_the_subgroup_give_the_bits_of_the_per_pixel_lookup() {
+    use vkgi::gi::lpv::LookupResolution;
+    use vkgi::gpu::PixelPasses;
+    let fragment_gpu = common::gpu_with(Some(PixelPasses::Fragment));
+    let compute_gpu = common::gpu_with(Some(PixelPasses::Compute));
+    let scene = Scene::load("cornell").unwrap();
+    let forms = [
+        (
+            "inside direct lighting",
+            &fragment_gpu,
+            false,
+            LookupResolution::Full,
+        ),
+        ("apart", &fragment_gpu, true, LookupResolution::Full),
+        (
+            "apart, compute form",
+            &compute_gpu,
+            true,
+            LookupResolution::Full,
+        ),
+        (
+            "at half resolution",
+            &fragment_gpu,
+            false,
+            LookupResolution::Half,
+        ),
+    ];
+    for (form, gpu, lookup_apart, resolution) in forms {
+        for scheme in [Scheme::Lpv, Scheme::Ilpv] {
+            let run = |filter: LookupFilter| {
+                let settings = LpvSettings {
+                    lookup_resolution: resolution,
+                    ..lookup_case_settings(scheme, filter)
+                };
+                let options = vkgi::render::FrameOptions {
+                    width: 41,
+                    height: 31,
+                    ..lookup_case_options(false, lookup_apart)
+                };
+                let (frame, _) = three_frames(gpu, &scene, options, settings);
+                frame.read_hdr(gpu).unwrap()
+            };
+            let per_pixel = run(LookupFilter::Texels);
+            let shared = run(LookupFilter::SharedTexels);
+            let case = format!("{scheme:?}, {form}");
+            assert!(common::mean(&per_pixel) > 0.0, "{case}: black");
+            let (worst, brightest) = common::worst_difference(&per_pixel, &shared);
+            assert!(
+                per_pixel == shared,
+                "{case}: differs by up to {worst} (brightest {brightest})"
+            );
+        }
+    }
+    common::assert_no_validation_errors(&fragment_gpu);
+    common::assert_no_validation_errors(&compute_gpu);
+}
+
+/// A device whose fragment or compute shaders cannot ballot, vote and shuffle across a subgroup,
+/// or whose subgroups have fewer than eight lanes, looks up texels pixel by pixel by default, and
+/// `--lookup-filter shared-texels` is refused there in one line.
+#[test]
+fn shared_texels_need_subgroups_of_eight_lanes_that_shuffle_in_pixel_shaders() {
+    let mut gpu = common::gpu();
+    assert!(gpu.info.pixel_subgroup_shuffles, "lavapipe has them");
+    assert_eq!(LookupFilter::for_device(&gpu), LookupFilter::SharedTexels);
+    let scene = Scene::load("cornell").unwrap();
+    let settings = lookup_case_settings(Scheme::Lpv, LookupFilter::SharedTexels);
+    for (shuffles, lanes) in [(false, 8), (true, 4)] {
+        gpu.info.pixel_subgroup_shuffles = shuffles;
+        gpu.info.subgroup_size = lanes;
+        assert_eq!(LookupFilter::for_device(&gpu), LookupFilter::Texels);
+        let error = match Lpv::new(&Setup::new(&gpu, &scene), settings.clone()) {
+            Ok(_) => panic!("shared texels were looked up in subgroups that cannot share them"),
+            Err(e) => format!("{e:#}"),
+        };
+        assert!(
+            error.contains("shared-texels") && error.contains("shuffle"),
+            "{error}"
+        );
+        assert!(!error.contains('\n'), "{error}");
+    }
+    common::assert_no_validation_errors(&gpu);
 }
 
 /// The LPV settings of the per-pixel pass comparisons: fixed-point injection (the same sums on

@@ -146,14 +146,21 @@ pub enum LookupFilter {
 
 impl LookupFilter {
     /// `--lookup-filter auto`: on a CPU device, whose sampler filters in software, texels shared
-    /// across the subgroup where its fragment and compute shaders can ballot, vote and shuffle
-    /// (else texels); the sampler on a GPU.
+    /// across the subgroup where it can ([`LookupFilter::can_share_texels`]; else texels); the
+    /// sampler on a GPU.
     pub fn for_device(gpu: &Gpu) -> LookupFilter {
-        match (gpu.info.is_cpu(), gpu.info.pixel_subgroup_shuffles) {
+        match (gpu.info.is_cpu(), LookupFilter::can_share_texels(gpu)) {
             (true, true) => LookupFilter::SharedTexels,
             (true, false) => LookupFilter::Texels,
             (false, _) => LookupFilter::Sampler,
         }
+    }
+
+    /// `gpu` can run [`LookupFilter::SharedTexels`]: its fragment and compute shaders ballot,
+    /// vote and shuffle across subgroups of at least the eight lanes that fetch a point's eight
+    /// cells.
+    pub fn can_share_texels(gpu: &Gpu) -> bool {
+        gpu.info.pixel_subgroup_shuffles && gpu.info.subgroup_size >= 8
     }
 
     /// The lookup reads the lattice buffers as texels (not 3-D images).

@@ -932,9 +932,9 @@ fn check_lookup_limits(
                 );
             }
         }
-        LookupFilter::SharedTexels if !gpu.info.pixel_subgroup_shuffles => {
+        LookupFilter::SharedTexels if !LookupFilter::can_share_texels(gpu) => {
             return Err(InputError::new(format!(
-                "--lookup-filter shared-texels needs subgroup ballots, votes and shuffles in fragment and compute shaders, which this device ({}) does not offer (--lookup-filter texels does not)",
+                "--lookup-filter shared-texels needs subgroups of at least 8 lanes that ballot, vote and shuffle in fragment and compute shaders, which this device ({}) does not offer (--lookup-filter texels does not)",
                 gpu.info.name
             ))
             .into());
