@@ -41,7 +41,8 @@
 //! products), the blend of 8 corners × 4 coefficients × 3 channels 192, the projections on the
 //! lobe 21, the clamp 3, albedo and scale 6 and the sum 3: 263. (The weights and the blend are
 //! the texture unit's work where one filters in hardware; the arithmetic is still what the
-//! result needs, and on a CPU device the shader does it (`--lookup-filter texels`). With the
+//! result needs, and on a CPU device the shader does it (`--lookup-filter texels` and
+//! `shared-texels`, whose shuffles move values without arithmetic). With the
 //! sampler, the copy of each result lattice into the 3-D image the lookup samples, 32 B per cell
 //! and channel a frame, is its own pass in the profile.)
 //!

@@ -111,7 +111,7 @@ const CELL_ORDER: Setting = Setting::new(
     "cell-order",
     Kind::Choice(&["auto", "rows", "columns"]),
     "auto",
-    "How the lattices' buffers hold their cells: auto (columns where a CPU device's kernel walks whole columns and the lookup reads texels, rows elsewhere), rows (x fastest: a GPU's neighbouring lanes read neighbouring words) or columns (z fastest: a column kernel's thread on a CPU walks consecutive lines); columns needs --lookup-filter texels; all give the same bits",
+    "How the lattices' buffers hold their cells: auto (columns where a CPU device's kernel walks whole columns and the lookup reads texels, rows elsewhere), rows (x fastest: a GPU's neighbouring lanes read neighbouring words) or columns (z fastest: a column kernel's thread on a CPU walks consecutive lines); columns needs the lookup to read texels (--lookup-filter texels or shared-texels); all give the same bits",
 );
 const NO_CLAMP_COMPENSATION: Setting = Setting::new(
     "no-clamp-compensation",

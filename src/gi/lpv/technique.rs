@@ -406,7 +406,7 @@ impl LpvSettings {
         let copied_to_images = filter == LookupFilter::Sampler;
         match self.cell_order {
             Some(CellOrder::Columns) if copied_to_images => Err(InputError::new(
-                "--cell-order columns needs --lookup-filter texels (the sampler's 3-D images are copied from the lattices row by row)",
+                "--cell-order columns needs the lookup to read texels (--lookup-filter texels or shared-texels; the sampler's 3-D images are copied from the lattices row by row)",
             )),
             Some(order) => Ok(order),
             None => Ok(CellOrder::for_step(gpu.info.is_cpu(), whole_columns, copied_to_images)),
@@ -1151,7 +1151,7 @@ impl Lpv {
         };
         // The column kernel reads its sources (the lattices and the geometry) and the
         // accumulation as texel buffers.
-        // So does the lookup, with --lookup-filter texels.
+        // So does the lookup, with --lookup-filter texels or shared-texels.
         let texels = kernel.reads_texels();
         let lattice_texels = texels || lookup_filter.reads_texels();
         let storage = |name: &str, bytes: usize, texels: bool| match texels {
