@@ -161,7 +161,7 @@ const LOOKUP_FILTER: Setting = Setting::new(
     "lookup-filter",
     Kind::Choice(&["auto", "sampler", "texels", "shared-texels"]),
     "auto",
-    "How the lookup interpolates the lattices: auto (shared-texels on a CPU device whose shaders can ballot, vote and shuffle across a subgroup, texels on another CPU device, sampler elsewhere), sampler (copies of the lattices as 3-D images the sampler filters: one fetch per channel, the texture unit's work on a GPU), texels (the lattices read as texels and interpolated in the shader: eight fetches per channel, about twice as fast as lavapipe's software filter) or shared-texels (texels, each subgroup's lanes fetching the cells around their points together: usually three fetches a lane); the texel forms give the same bits, the sampler the same light within float rounding",
+    "How the lookup interpolates the lattices: auto (shared-texels on a CPU device whose shaders can ballot, vote and shuffle across a subgroup, texels on another CPU device, sampler elsewhere), sampler (copies of the lattices as 3-D images the sampler filters: one fetch per channel, the texture unit's work on a GPU), texels (the lattices read as texels and interpolated in the shader: eight fetches per channel, about twice as fast as lavapipe's software filter) or shared-texels (texels, each subgroup's lanes fetching the cells around their points together: three fetches a lane for each set of cells the subgroup's points fall in); the texel forms give the same bits, the sampler the same light within float rounding",
 );
 const ILPV_LOOKUP: Setting = Setting::new(
     "ilpv-lookup",

@@ -139,8 +139,8 @@ pub enum LookupFilter {
     /// As [`LookupFilter::Texels`], the fetches shared across a subgroup: each lane fetches one
     /// of the eight cells around the first waiting lane's point and every lane whose point lies
     /// among them takes all eight by shuffles, a round for each set of cells the subgroup's
-    /// points need (usually one: three fetches a lane instead of 24). The same sums in the same
-    /// order as the per-pixel form: the same bits.
+    /// points need (three fetches a lane a round, against 24 a pixel). The same sums in the
+    /// same order as the per-pixel form: the same bits.
     SharedTexels,
 }
 
