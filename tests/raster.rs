@@ -270,7 +270,8 @@ fn shared_and_looped_lights_give_the_same_direct_light() {
 /// Direct lighting is a fragment pass when the shared lights and their shadow views fit its
 /// flat varyings (one narrow spot: the Cornell box), a compute pass otherwise. Both must give the
 /// same bits: the Cornell box with glossy and plain materials under its spot, against the same
-/// scene with dark lights added past the shared limit (the compute pass's loop).
+/// scene with dark lights added past the shared limit (the compute pass's loop), which shades
+/// the background pixels the fragment form skips.
 #[test]
 fn fragment_and_compute_direct_lighting_give_the_same_image() {
     use vkgi::scene::{Light, LightKind};
@@ -290,6 +291,16 @@ fn fragment_and_compute_direct_lighting_give_the_same_image() {
             .starts_with("fragment pass"),
         "the Cornell box's spot should be lit by the fragment pass: {}",
         fragment_frame.direct_lighting()
+    );
+    // The fragment form shades only the pixels a surface covers (the early depth test against
+    // the G-buffer's depth skips the rest) and the compute form every pixel: the view must hold
+    // background pixels for the comparison below to cover that.
+    let positions = fragment_frame.read_positions(&gpu).unwrap();
+    let background = positions.iter().filter(|p| p[3] == 0.0).count();
+    assert!(
+        background > positions.len() / 10 && background < positions.len() / 2,
+        "{background} of {} pixels are background",
+        positions.len()
     );
     let dark = Light {
         position: Vec3::new(0.2, 0.4, 0.3),

@@ -14,10 +14,11 @@ layout(binding = LIGHTING_SHADOW_VIEWS, std430) readonly buffer ShadowViews { Sh
 
 layout(location = 0) flat out vec4 words[LIGHTING_VARYING_WORDS];
 
-// Vertex gl_VertexIndex of the triangle that covers the viewport (clip space -1..3).
+// Vertex gl_VertexIndex of the triangle that covers the viewport (clip space -1..3), at the far
+// plane (common/fullscreen.vert says why).
 void cover_viewport() {
     vec2 corner = vec2(float((gl_VertexIndex << 1) & 2), float(gl_VertexIndex & 2));
-    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+    gl_Position = vec4(corner * 2.0 - 1.0, 1.0, 1.0);
 }
 
 // The shared lights and their views into `words`.

@@ -71,6 +71,16 @@ pub struct CoreSummary {
     /// Where a frame's first run must do less (a propagation's first step, which blocks
     /// nothing), what it must do: its row is held to that bound and left out of the median.
     pub first_run: Option<UnitCost>,
+    /// A per-pixel pass whose pixels without a surface need less: how many pixels a surface
+    /// covers, and the bytes each other one is held to (no flops).
+    pub background: Option<Background>,
+}
+
+/// The pixels of a view a surface covers, and what a per-pixel pass is held to at the others.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Background {
+    pub covered_pixels: usize,
+    pub bytes_per_pixel: f64,
 }
 
 /// One (method, axis value) configuration.
@@ -279,9 +289,15 @@ pub fn run(
                 bytes_per_unit: c.cost.bytes,
                 flops_per_unit: c.cost.flops,
                 first_run: c.first_run,
+                background: None,
             }
         });
         let pixels = config.size.0 as usize * config.size.1 as usize;
+        let covered = frame
+            .read_positions(gpu)?
+            .iter()
+            .filter(|p| p[3] != 0.0)
+            .count();
         let frame_passes = cost::pixel_passes(lights, MaterialTerms::of(&scene));
         let direct = frame_passes.iter().find(|p| p.pass == DIRECT_LIGHTING);
         // The passes that ran (direct lighting and the lookup run as one pass or apart).
@@ -296,7 +312,7 @@ pub fn run(
                     .map(|p| (Some(entry.name), with_direct_lighting(p, direct))),
             )
             .filter(|(owner, p)| ran(&report, *owner, p.pass))
-            .map(|(owner, p)| pixel_summary(&report, &limits, owner, &p, pixels))
+            .map(|(owner, p)| pixel_summary(&report, &limits, owner, &p, (pixels, covered)))
             .collect();
         configs.push(ConfigSummary {
             method: entry.name,
@@ -396,23 +412,29 @@ fn with_direct_lighting(pass: PixelPass, direct: Option<&PixelPass>) -> PixelPas
         Some(direct) if pass.with_direct_lighting => PixelPass {
             bytes_per_pixel: pass.bytes_per_pixel + direct.bytes_per_pixel,
             flops_per_pixel: pass.flops_per_pixel + direct.flops_per_pixel,
+            background_bytes: pass
+                .background_bytes
+                .zip(direct.background_bytes)
+                .map(|(own, direct)| own + direct),
             ..pass
         },
         _ => pass,
     }
 }
 
-/// Per-pixel pass `pass` of `owner` (None: the frame) over `pixels` pixels against the bound.
+/// Per-pixel pass `pass` of `owner` (None: the frame) over `pixels` pixels, `covered` of
+/// them by a surface, against the bound.
 fn pixel_summary(
     report: &ProfileReport,
     limits: &DeviceLimits,
     owner: Option<&str>,
     pass: &PixelPass,
-    pixels: usize,
+    (pixels, covered): (usize, usize),
 ) -> CoreSummary {
     let median = pass_median(report, owner, pass.pass);
     let units = pixels.max(1) as f64;
-    let bound = limits.bound_ns(pass.bytes_per_pixel * units, pass.flops_per_pixel * units);
+    let (bytes, flops) = pass.ideal(pixels, covered);
+    let bound = limits.bound_ns(bytes, flops);
     CoreSummary {
         pass: pass.pass,
         unit: "pixel",
@@ -423,6 +445,10 @@ fn pixel_summary(
         bytes_per_unit: pass.bytes_per_pixel,
         flops_per_unit: pass.flops_per_pixel,
         first_run: None,
+        background: pass.background_bytes.map(|bytes_per_pixel| Background {
+            covered_pixels: covered.min(pixels),
+            bytes_per_pixel,
+        }),
     }
 }
 
@@ -524,6 +550,15 @@ impl ProfileResult {
                     k.flops_per_unit,
                     k.unit
                 );
+                if let Some(b) = k.background {
+                    let _ = writeln!(
+                        out,
+                        "    of them {} covered by a surface, held to that; the other {} to {:.1} B and no flops each",
+                        b.covered_pixels,
+                        k.units - b.covered_pixels,
+                        b.bytes_per_pixel
+                    );
+                }
                 if let Some(first) = k.first_run {
                     let _ = writeln!(
                         out,

@@ -137,6 +137,25 @@ pub struct PixelPass {
     /// The pass draws the frame's direct lighting too ([`GiMethod::record_lit_lookup`]): its
     /// bound is direct lighting's plus these bytes and flops.
     pub with_direct_lighting: bool,
+    /// Where a pixel that no surface covers needs less: the bytes it must move there (whether
+    /// a surface covers it read from the depth, 4 B, and what the pass must write there), and
+    /// no arithmetic. None: every pixel costs the same.
+    pub background_bytes: Option<f64>,
+}
+
+impl PixelPass {
+    /// The bytes and flops the pass must move and compute at the ideal over `pixels` pixels, of
+    /// which `covered` show a surface.
+    pub fn ideal(&self, pixels: usize, covered: usize) -> (f64, f64) {
+        let (pixels, covered) = (pixels as f64, covered.min(pixels) as f64);
+        match self.background_bytes {
+            None => (self.bytes_per_pixel * pixels, self.flops_per_pixel * pixels),
+            Some(background) => (
+                self.bytes_per_pixel * covered + background * (pixels - covered),
+                self.flops_per_pixel * covered,
+            ),
+        }
+    }
 }
 
 /// A GI method: persistent GPU state plus the passes it adds to a frame.

@@ -28,7 +28,7 @@ pub use context::{
 };
 pub use memory::{Buffer, BufferDesc, Image, ImageDesc, Sampler};
 pub use pass::{Binding, ComputePass, Draw, RasterPass, Recorder, ResourceKey, ResourceUse};
-pub use pipeline::{ComputePipeline, RasterPipeline, RasterPipelineDesc, Specialization};
+pub use pipeline::{ComputePipeline, Depth, RasterPipeline, RasterPipelineDesc, Specialization};
 pub use profiler::{PassTiming, ProfileReport, Profiler};
 pub use push::PushConstants;
 pub use scope::{Part, ScopeTag, Stage};

@@ -8,7 +8,7 @@ use ash::vk::{self, Handle};
 
 use super::context::{Gpu, Queue};
 use super::memory::{Buffer, Image, SyncState};
-use super::pipeline::{ComputePipeline, PipelineCore, RasterPipeline};
+use super::pipeline::{ComputePipeline, Depth, PipelineCore, RasterPipeline};
 use super::profiler::FrameQueries;
 use super::push::{self, PushConstants};
 use super::reflect::DescriptorKind;
@@ -34,6 +34,8 @@ pub enum Access {
     GraphicsSampled,
     ColorAttachment,
     DepthAttachment,
+    /// A depth attachment only tested against (`Depth::Covered`).
+    DepthTest,
     TransferRead,
     TransferWrite,
     HostRead,
@@ -80,6 +82,11 @@ impl Access {
                 S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
                 A::DEPTH_STENCIL_ATTACHMENT_READ | A::DEPTH_STENCIL_ATTACHMENT_WRITE,
                 L::DEPTH_ATTACHMENT_OPTIMAL,
+            ),
+            Access::DepthTest => (
+                S::EARLY_FRAGMENT_TESTS | S::LATE_FRAGMENT_TESTS,
+                A::DEPTH_STENCIL_ATTACHMENT_READ,
+                L::DEPTH_READ_ONLY_OPTIMAL,
             ),
             Access::TransferRead => (S::ALL_TRANSFER, A::TRANSFER_READ, L::TRANSFER_SRC_OPTIMAL),
             Access::TransferWrite => (S::ALL_TRANSFER, A::TRANSFER_WRITE, L::TRANSFER_DST_OPTIMAL),
@@ -920,8 +927,16 @@ impl<'a> Recorder<'a> {
         for (image, _, _) in pass.color {
             accesses.push((Resource::Image(image), Access::ColorAttachment));
         }
+        // A pass that only tests against its depth attachment reads it as an earlier pass left
+        // it; one that keeps the nearest fragment clears it unless it keeps its contents.
+        let tests_only = matches!(pass.pipeline.depth, Some(Depth::Covered(_)));
+        let depth_access = if tests_only {
+            Access::DepthTest
+        } else {
+            Access::DepthAttachment
+        };
         if let Some((image, _)) = pass.depth {
-            accesses.push((Resource::Image(image), Access::DepthAttachment));
+            accesses.push((Resource::Image(image), depth_access));
         }
         if let Draw::Indirect { buffer, .. } = pass.draw {
             accesses.push((Resource::Buffer(buffer), Access::IndirectRead));
@@ -947,12 +962,25 @@ impl<'a> Recorder<'a> {
                     })
             })
             .collect();
+        let (depth_layout, depth_load, depth_store) = if tests_only {
+            (
+                vk::ImageLayout::DEPTH_READ_ONLY_OPTIMAL,
+                vk::AttachmentLoadOp::LOAD,
+                vk::AttachmentStoreOp::NONE,
+            )
+        } else {
+            (
+                vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                load_op,
+                vk::AttachmentStoreOp::STORE,
+            )
+        };
         let depth_attachment = pass.depth.map(|(image, layer)| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(layer_view(image, layer))
-                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-                .load_op(load_op)
-                .store_op(vk::AttachmentStoreOp::STORE)
+                .image_layout(depth_layout)
+                .load_op(depth_load)
+                .store_op(depth_store)
                 .clear_value(vk::ClearValue {
                     depth_stencil: vk::ClearDepthStencilValue {
                         depth: 1.0,

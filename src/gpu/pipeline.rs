@@ -91,6 +91,30 @@ pub struct ComputePipeline {
 
 pub struct RasterPipeline {
     pub core: PipelineCore,
+    /// Its depth attachment and test, if it has one.
+    pub depth: Option<Depth>,
+}
+
+/// A raster pipeline's depth attachment (its format) and how its fragments test against it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Depth {
+    /// Keep the nearest fragment: test LESS and write (a pass clears the attachment to 1 unless
+    /// it keeps its contents).
+    Nearest(vk::Format),
+    /// Shade only the pixels a surface covers in a depth buffer drawn before: the fragments of a
+    /// triangle at the far plane (common/fullscreen.vert) pass GREATER where the attachment
+    /// holds a nearer depth, and fail where it holds the clear value 1 (background), so
+    /// lavapipe skips the batches of background pixels before shading them. The attachment is
+    /// read as it is (loaded, read only, not written).
+    Covered(vk::Format),
+}
+
+impl Depth {
+    fn format(self) -> vk::Format {
+        match self {
+            Depth::Nearest(format) | Depth::Covered(format) => format,
+        }
+    }
 }
 
 #[derive(Clone, Debug)]
@@ -99,7 +123,7 @@ pub struct RasterPipelineDesc<'a> {
     pub vertex: &'a [u8],
     pub fragment: Option<&'a [u8]>,
     pub color_formats: &'a [vk::Format],
-    pub depth_format: Option<vk::Format>,
+    pub depth: Option<Depth>,
     /// Constant and slope-scaled depth bias (for shadow maps).
     pub depth_bias: Option<(f32, f32)>,
     /// Add the fragments' outputs to the attachments (one plus one) instead of replacing them.
@@ -430,11 +454,15 @@ impl RasterPipeline {
         }
         let multisample = vk::PipelineMultisampleStateCreateInfo::default()
             .rasterization_samples(vk::SampleCountFlags::TYPE_1);
-        let has_depth = desc.depth_format.is_some();
+        let (test, write, compare) = match desc.depth {
+            None => (false, false, vk::CompareOp::ALWAYS),
+            Some(Depth::Nearest(_)) => (true, true, vk::CompareOp::LESS),
+            Some(Depth::Covered(_)) => (true, false, vk::CompareOp::GREATER),
+        };
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-            .depth_test_enable(has_depth)
-            .depth_write_enable(has_depth)
-            .depth_compare_op(vk::CompareOp::LESS);
+            .depth_test_enable(test)
+            .depth_write_enable(write)
+            .depth_compare_op(compare);
         let blend_attachments: Vec<vk::PipelineColorBlendAttachmentState> = desc
             .color_formats
             .iter()
@@ -456,7 +484,7 @@ impl RasterPipeline {
         let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
         let mut rendering = vk::PipelineRenderingCreateInfo::default()
             .color_attachment_formats(desc.color_formats)
-            .depth_attachment_format(desc.depth_format.unwrap_or(vk::Format::UNDEFINED));
+            .depth_attachment_format(desc.depth.map_or(vk::Format::UNDEFINED, Depth::format));
         let info = vk::GraphicsPipelineCreateInfo::default()
             .stages(&stage_infos)
             .vertex_input_state(&vertex_input)
@@ -481,7 +509,10 @@ impl RasterPipeline {
         })?;
         core.raw = pipelines[0];
         gpu.shared.set_name(core.raw, name);
-        Ok(RasterPipeline { core })
+        Ok(RasterPipeline {
+            core,
+            depth: desc.depth,
+        })
     }
 }
 

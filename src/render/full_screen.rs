@@ -5,7 +5,8 @@
 
 use ash::vk;
 
-use crate::gpu::{Gpu, GpuResult, RasterPipeline, RasterPipelineDesc, Specialization};
+use super::targets::GBUFFER_DEPTH_FORMAT;
+use crate::gpu::{Depth, Gpu, GpuResult, RasterPipeline, RasterPipelineDesc, Specialization};
 use crate::shaders;
 
 /// What the fragment's output does to the render target.
@@ -17,14 +18,26 @@ pub enum Blend {
     Add,
 }
 
+/// Which pixels a per-pixel pass shades.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pixels {
+    /// Every pixel of the render target.
+    All,
+    /// Only the pixels a surface covers: the pass is drawn with the view's G-buffer depth as its
+    /// depth attachment ([`Depth::Covered`]), and background pixels keep what the render target
+    /// held (its clear value, or what an earlier pass wrote). On lavapipe the early depth test
+    /// skips the SIMD batches of background pixels before the shader runs.
+    Covered,
+}
+
 /// The pipeline of a per-pixel pass named `name`: `fragment` (a fragment shader that reads
 /// its pixel at `gl_FragCoord.xy`) into one render target of `format`. Draw it with
-/// `Draw::Vertices(3)`.
+/// `Draw::Vertices(3)`, at `pixels`.
 pub fn full_screen(
     gpu: &Gpu,
     name: &str,
     fragment: &[u8],
-    format: vk::Format,
+    (format, pixels): (vk::Format, Pixels),
     blend: Blend,
     specialization: &Specialization,
 ) -> GpuResult<RasterPipeline> {
@@ -32,7 +45,7 @@ pub fn full_screen(
         vertex: shaders::COMMON_FULLSCREEN_VERT,
         fragment,
     };
-    full_screen_with(gpu, name, shaders, format, blend, specialization)
+    full_screen_with(gpu, name, shaders, (format, pixels), blend, specialization)
 }
 
 /// A per-pixel pass's shaders: the full-screen triangle's vertex shader (common/fullscreen.vert,
@@ -49,7 +62,7 @@ pub fn full_screen_with(
     gpu: &Gpu,
     name: &str,
     shaders: FullScreenShaders,
-    format: vk::Format,
+    (format, pixels): (vk::Format, Pixels),
     blend: Blend,
     specialization: &Specialization,
 ) -> GpuResult<RasterPipeline> {
@@ -60,7 +73,10 @@ pub fn full_screen_with(
             vertex: shaders.vertex,
             fragment: Some(shaders.fragment),
             color_formats: &[format],
-            depth_format: None,
+            depth: match pixels {
+                Pixels::All => None,
+                Pixels::Covered => Some(Depth::Covered(GBUFFER_DEPTH_FORMAT)),
+            },
             depth_bias: None,
             additive_blend: blend == Blend::Add,
             conservative: false,

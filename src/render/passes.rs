@@ -4,11 +4,12 @@
 use ash::vk;
 use glam::Vec3;
 
-use super::full_screen::{Blend, full_screen};
-use super::targets::{GBUFFER_FORMATS, HDR_FORMAT, LDR_RENDER_FORMAT, View};
+use super::full_screen::{Blend, Pixels, full_screen};
+use super::targets::{GBUFFER_DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT, LDR_RENDER_FORMAT, View};
 use crate::gpu::{
-    Binding, ComputePass, ComputePipeline, Draw, Gpu, GpuResult, Image, PixelPasses, PushConstants,
-    RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
+    Binding, ComputePass, ComputePipeline, Depth, Draw, Gpu, GpuResult, Image, PixelPasses,
+    PushConstants, RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Sampler,
+    Specialization,
 };
 use crate::scene::gpu::{SceneBuffers, shadow_view_ranges};
 use crate::scene::{Light, Material, Scene};
@@ -155,7 +156,14 @@ pub struct DirectDraw<'a> {
     pub bindings: Vec<Binding<'a>>,
     push: LightingPush,
     pub hdr: &'a Image,
+    /// The view's G-buffer depth: the pass shades only the pixels a surface covers
+    /// (`Pixels::Covered`), and the rest keep their clear value, [`BACKGROUND`].
+    pub depth: &'a Image,
 }
+
+/// What direct lighting leaves in the HDR image where no surface covers a pixel: no light
+/// (the shaders' output there too), alpha 1.
+pub const BACKGROUND: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
 
 impl DirectDraw<'_> {
     pub fn push(&self) -> &dyn PushConstants {
@@ -224,7 +232,7 @@ impl ScenePasses {
                     vertex: shaders::RASTER_SHADOW_VERT,
                     fragment: None,
                     color_formats: &[],
-                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth: Some(Depth::Nearest(vk::Format::D32_SFLOAT)),
                     depth_bias: Some((1.25, 1.75)),
                     additive_blend: false,
                     conservative: false,
@@ -244,7 +252,7 @@ impl ScenePasses {
                         false => shaders::RASTER_GBUFFER_PLAIN_FRAG,
                     }),
                     color_formats: &GBUFFER_FORMATS[..gbuffer_targets(gbuffer_terms)],
-                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth: Some(Depth::Nearest(GBUFFER_DEPTH_FORMAT)),
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,
@@ -374,8 +382,8 @@ impl ScenePasses {
                 pipeline,
                 bindings: &bindings,
                 push: &push,
-                color: &[(&view.hdr, 0, [0.0; 4])],
-                depth: None,
+                color: &[(&view.hdr, 0, BACKGROUND)],
+                depth: Some((&view.gbuffer.depth, 0)),
                 draw: Draw::Vertices(3),
                 keep_contents: false,
             }),
@@ -396,6 +404,7 @@ impl ScenePasses {
             bindings: lighting_inputs(scene, shadows, view),
             push: self.lighting_push(scene, view, include_direct),
             hdr: &view.hdr,
+            depth: &view.gbuffer.depth,
         })
     }
 
@@ -485,7 +494,7 @@ fn tone_map(gpu: &Gpu) -> GpuResult<ToneMap> {
             gpu,
             TONE_MAP,
             shaders::RASTER_TONEMAP_FRAG,
-            LDR_RENDER_FORMAT,
+            (LDR_RENDER_FORMAT, Pixels::All),
             Blend::Replace,
             &Specialization::new(),
         )?),
@@ -520,7 +529,7 @@ fn direct_lighting(
             vertex: shaders::RASTER_LIGHTING_VERT,
             fragment: Some(shaders::RASTER_LIGHTING_FRAG),
             color_formats: &[HDR_FORMAT],
-            depth_format: None,
+            depth: Some(Depth::Covered(GBUFFER_DEPTH_FORMAT)),
             depth_bias: None,
             additive_blend: false,
             conservative: false,

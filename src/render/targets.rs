@@ -21,6 +21,10 @@ pub const GBUFFER_FORMATS: [vk::Format; 5] = [
     vk::Format::R16G16B16A16_SFLOAT,
 ];
 
+/// Format of the G-buffer's depth, which per-pixel passes of covered pixels only test against
+/// (`full_screen::Pixels::Covered`).
+pub const GBUFFER_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
 /// Format of a view's linear HDR image.
 pub const HDR_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
@@ -93,7 +97,7 @@ impl View {
             specular: image("g-buffer specular", GBUFFER_FORMATS[4], attachment)?,
             depth: image(
                 "g-buffer depth",
-                vk::Format::D32_SFLOAT,
+                GBUFFER_DEPTH_FORMAT,
                 vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
             )?,
         };

@@ -12,6 +12,7 @@ use super::{CacheSettings, Placement};
 use crate::gi::FrameContext;
 use crate::reference::Bounces;
 use crate::gpu::{
+    Depth,
     Binding, Draw, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Image,
     ImageDesc, RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
 };
@@ -169,7 +170,7 @@ impl Passes {
                     vertex: shaders::GI_IRRADIANCE_CACHE_HEMISPHERE_VERT,
                     fragment: Some(shaders::GI_IRRADIANCE_CACHE_HEMISPHERE_FRAG),
                     color_formats: &[vk::Format::R32G32B32A32_SFLOAT],
-                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth: Some(Depth::Nearest(vk::Format::D32_SFLOAT)),
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,
@@ -183,7 +184,7 @@ impl Passes {
                     vertex: shaders::GI_IRRADIANCE_CACHE_SPLAT_VERT,
                     fragment: Some(shaders::GI_IRRADIANCE_CACHE_SPLAT_FRAG),
                     color_formats: &[SPLAT_FORMAT],
-                    depth_format: None,
+                    depth: None,
                     depth_bias: None,
                     additive_blend: true,
                     conservative: false,

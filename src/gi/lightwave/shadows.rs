@@ -12,6 +12,7 @@ use super::cpu::rig_axis;
 use super::rig::Rig;
 use crate::gi::FrameContext;
 use crate::gpu::{
+    Depth,
     Binding, Draw, Buffer, BufferDesc, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder,
 };
@@ -81,7 +82,7 @@ impl VplShadows {
                 vertex: shaders::RASTER_SHADOW_VERT,
                 fragment: None,
                 color_formats: &[],
-                depth_format: Some(vk::Format::D32_SFLOAT),
+                depth: Some(Depth::Nearest(vk::Format::D32_SFLOAT)),
                 depth_bias: Some((1.25, 1.75)),
                 additive_blend: false,
                 conservative: false,

@@ -143,6 +143,10 @@ pub fn flops_per_cell(scheme: Scheme, work: StepWork, geometry_words: u32, chann
 /// Bytes the lookup moves per pixel at the ideal.
 pub const LOOKUP_BYTES_PER_PIXEL: f64 = 64.0;
 
+/// Bytes the lookup and the upsample apart move at a pixel no surface covers: whether one does
+/// (the depth, 4 B); they add nothing there. Inside direct lighting they add nothing to its.
+pub const BACKGROUND_TEST_BYTES: f64 = 4.0;
+
 /// Flops of the normal's normalisation, which a lookup inside direct lighting shares with it.
 pub const NORMALISE_FLOPS: f64 = 9.0;
 

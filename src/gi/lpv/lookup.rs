@@ -34,8 +34,8 @@ use crate::gpu::{
     ImageDesc, PixelPasses, PushConstants, RasterPass, RasterPipeline, Recorder, Sampler,
     Specialization,
 };
-use crate::render::full_screen::{Blend, FullScreenShaders, full_screen, full_screen_with};
-use crate::render::passes::{DirectDraw, DirectShape};
+use crate::render::full_screen::{Blend, FullScreenShaders, Pixels, full_screen, full_screen_with};
+use crate::render::passes::{BACKGROUND, DirectDraw, DirectShape};
 use crate::render::targets::{HDR_FORMAT, View};
 use crate::scene::Scene;
 use crate::shaders;
@@ -93,12 +93,14 @@ pub fn lookup_passes(lattices: u32, resolution: LookupResolution) -> Vec<PixelPa
             bytes_per_pixel: bytes,
             flops_per_pixel: flops,
             with_direct_lighting: false,
+            background_bytes: Some(cost::BACKGROUND_TEST_BYTES),
         },
         PixelPass {
             pass: lit,
             bytes_per_pixel: lit_bytes,
             flops_per_pixel: flops - cost::NORMALISE_FLOPS,
             with_direct_lighting: true,
+            background_bytes: Some(0.0),
         },
     ];
     if resolution == LookupResolution::Half {
@@ -107,6 +109,7 @@ pub fn lookup_passes(lattices: u32, resolution: LookupResolution) -> Vec<PixelPa
             bytes_per_pixel: cost::HALF_LOOKUP_BYTES_PER_TEXEL / 4.0,
             flops_per_pixel: cost::half_lookup_flops_per_texel(lattices) / 4.0,
             with_direct_lighting: false,
+            background_bytes: None,
         });
     }
     passes
@@ -303,7 +306,8 @@ fn lit_pipeline(
         return Ok(None);
     };
     let spec = spec(shape.specialization().clone());
-    let pipeline = full_screen_with(gpu, name, shaders, HDR_FORMAT, Blend::Replace, &spec)?;
+    let target = (HDR_FORMAT, Pixels::Covered);
+    let pipeline = full_screen_with(gpu, name, shaders, target, Blend::Replace, &spec)?;
     Ok(Some((shape, pipeline)))
 }
 
@@ -398,7 +402,7 @@ impl Lookup {
                         gpu,
                         LOOKUP,
                         shaders,
-                        HDR_FORMAT,
+                        (HDR_FORMAT, Pixels::Covered),
                         Blend::Add,
                         &spec,
                     )?),
@@ -421,7 +425,7 @@ impl Lookup {
                     gpu,
                     UPSAMPLE,
                     shaders::GI_LPV_UPSAMPLE_FRAG,
-                    HDR_FORMAT,
+                    (HDR_FORMAT, Pixels::Covered),
                     Blend::Add,
                     &Specialization::new(),
                 )?);
@@ -434,7 +438,7 @@ impl Lookup {
                     gpu,
                     HALF_LOOKUP,
                     shaders,
-                    HALF_LIGHT_FORMAT,
+                    (HALF_LIGHT_FORMAT, Pixels::All),
                     Blend::Replace,
                     &spec,
                 )?;
@@ -608,7 +612,7 @@ impl Lookup {
                 bindings: &bindings,
                 push,
                 color: &[(&view.hdr, 0, [0.0; 4])],
-                depth: None,
+                depth: Some((&gb.depth, 0)),
                 draw: Draw::Vertices(3),
                 keep_contents: true,
             }),
@@ -654,8 +658,8 @@ impl Lookup {
             pipeline,
             bindings: &bindings,
             push: direct.push(),
-            color: &[(direct.hdr, 0, [0.0; 4])],
-            depth: None,
+            color: &[(direct.hdr, 0, BACKGROUND)],
+            depth: Some((direct.depth, 0)),
             draw: Draw::Vertices(3),
             keep_contents: false,
         })?;

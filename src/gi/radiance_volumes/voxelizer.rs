@@ -90,7 +90,7 @@ impl RasterVoxelizer {
                 vertex: shaders::GI_RADIANCE_VOLUMES_VOXELIZE_RASTER_VERT,
                 fragment: Some(shaders::GI_RADIANCE_VOLUMES_VOXELIZE_RASTER_FRAG),
                 color_formats: &[format],
-                depth_format: None,
+                depth: None,
                 depth_bias: None,
                 additive_blend: false,
                 conservative,

@@ -16,6 +16,7 @@ use super::elements::{Elements, NO_SURFACE};
 use super::table::StoredTable;
 use crate::gpu::dispatch::{MAX_WORKGROUPS_X, rows_of_workgroups};
 use crate::gpu::{
+    Depth,
     Binding, Draw, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Image, ImageDesc,
     RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Specialization,
 };
@@ -404,7 +405,7 @@ impl Solver {
                     vertex: shaders::GI_RADIOSITY_ITEM_BUFFER_VERT,
                     fragment: Some(shaders::GI_RADIOSITY_ITEM_BUFFER_FRAG),
                     color_formats: &[vk::Format::R32_UINT, vk::Format::R32_SFLOAT],
-                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth: Some(Depth::Nearest(vk::Format::D32_SFLOAT)),
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,

@@ -6,7 +6,7 @@ use ash::vk;
 use super::bindings as ids;
 use crate::gi::FrameContext;
 use crate::gpu::{
-    Binding, Draw, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
+    Binding, Depth, Draw, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder,
 };
 use crate::render::targets::check_layered_image;
@@ -49,7 +49,7 @@ impl Rsm {
                     vk::Format::R16G16B16A16_SFLOAT,
                     vk::Format::R32G32B32A32_SFLOAT,
                 ],
-                depth_format: Some(vk::Format::D32_SFLOAT),
+                depth: Some(Depth::Nearest(vk::Format::D32_SFLOAT)),
                 depth_bias: None,
                 additive_blend: false,
                 conservative: false,

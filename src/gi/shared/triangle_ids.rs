@@ -6,7 +6,7 @@ use ash::vk;
 
 use crate::gi::FrameContext;
 use crate::gpu::{
-    Binding, Draw, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
+    Binding, Depth, Draw, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder,
 };
 use crate::render::targets::View;
@@ -44,7 +44,7 @@ impl TriangleIds {
                     vertex: shaders::GI_SHARED_TRIANGLE_IDS_VERT,
                     fragment: Some(shaders::GI_SHARED_TRIANGLE_IDS_FRAG),
                     color_formats: &[vk::Format::R32_UINT],
-                    depth_format: Some(vk::Format::D32_SFLOAT),
+                    depth: Some(Depth::Nearest(vk::Format::D32_SFLOAT)),
                     depth_bias: None,
                     additive_blend: false,
                     conservative: false,
