@@ -424,3 +424,67 @@ fn assert_tone_map_within_one(gpu: &vkgi::gpu::Gpu, form: vkgi::gpu::PixelPasses
         );
     }
 }
+
+/// A pass that shades only covered pixels tests against the G-buffer's depth: recorded without
+/// a depth attachment it is refused with the pass named, before anything is recorded, and so
+/// is a depth attachment for a pipeline that has no depth format.
+#[test]
+fn a_pass_and_its_pipeline_must_agree_on_a_depth_attachment() {
+    use ash::vk;
+    use vkgi::gpu::{Draw, ImageDesc, RasterPass, Specialization};
+    use vkgi::render::full_screen::{Blend, Pixels, full_screen};
+    let gpu = common::gpu();
+    let target = vk::Format::R32G32B32A32_SFLOAT;
+    let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT;
+    let hdr = gpu
+        .create_image(&ImageDesc::new_2d("hdr", target, 8, 8, usage))
+        .unwrap();
+    let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+    let depth_format = vk::Format::D32_SFLOAT;
+    let depth = gpu
+        .create_image(&ImageDesc::new_2d("depth", depth_format, 8, 8, depth_usage))
+        .unwrap();
+    let spec = Specialization::new();
+    let shader = vkgi::shaders::RASTER_TONEMAP_FRAG;
+    let covered = full_screen(
+        &gpu,
+        "covered",
+        shader,
+        (target, Pixels::Covered),
+        Blend::Add,
+        &spec,
+    )
+    .unwrap();
+    let every = full_screen(
+        &gpu,
+        "every",
+        shader,
+        (target, Pixels::All),
+        Blend::Add,
+        &spec,
+    )
+    .unwrap();
+    for (name, pipeline, with_depth, expected) in [
+        ("covered", &covered, false, "no depth attachment"),
+        ("every", &every, true, "no format for"),
+    ] {
+        let result = gpu.one_shot(|rec| {
+            rec.raster(&RasterPass {
+                name: "agreement",
+                pipeline,
+                bindings: &[],
+                push: &(),
+                color: &[(&hdr, 0, [0.0; 4])],
+                depth: with_depth.then_some((&depth, 0)),
+                draw: Draw::Vertices(3),
+                keep_contents: true,
+            })
+        });
+        let message = format!("{:#}", result.expect_err(name));
+        assert!(
+            message.contains("agreement") && message.contains(expected),
+            "{name}: {message}"
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}

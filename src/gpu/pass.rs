@@ -364,7 +364,9 @@ pub struct RasterPass<'p> {
     pub push: &'p dyn PushConstants,
     /// Colour attachments, the layer rendered into, and their clear colours.
     pub color: &'p [(&'p Image, u32, [f32; 4])],
-    /// Depth attachment and the layer rendered into.
+    /// Depth attachment and the layer rendered into; what the pipeline's `Depth` says: cleared
+    /// and written (`Nearest`, unless the pass keeps its contents), or read as an earlier pass
+    /// left it (`Covered`).
     pub depth: Option<(&'p Image, u32)>,
     pub draw: Draw<'p>,
     /// Keep the attachments' contents (the clear values are then unused).
@@ -912,6 +914,16 @@ impl<'a> Recorder<'a> {
     /// Record a raster pass: clear the attachments, draw, end.
     pub fn raster(&mut self, pass: &RasterPass) -> GpuResult<()> {
         let core = &pass.pipeline.core;
+        if pass.pipeline.depth.is_some() != pass.depth.is_some() {
+            return Err(GpuError::Interface {
+                pass: pass.name.to_string(),
+                message: match pass.depth {
+                    None => "its pipeline tests depth, but the pass has no depth attachment",
+                    Some(_) => "the pass has a depth attachment its pipeline has no format for",
+                }
+                .into(),
+            });
+        }
         self.check_interface(core, pass.name, pass.bindings, pass.push)?;
         let extent = pass
             .color
@@ -1481,6 +1493,28 @@ mod tests {
         // A second read stage after the transition still waits for the transition.
         let t = barrier(&mut s, Access::TransferRead, true);
         assert_eq!(t.4, vk::ImageLayout::GENERAL);
+    }
+
+    #[test]
+    fn a_depth_test_reads_the_depth_written_before_in_a_read_only_layout() {
+        use vk::{AccessFlags2 as A, ImageLayout as L};
+        let mut s = SyncState::default();
+        transition(&mut s, Access::DepthAttachment, true, GRAPHICS_QUEUE);
+        let t = barrier(&mut s, Access::DepthTest, true);
+        assert!(
+            t.1.contains(A::DEPTH_STENCIL_ATTACHMENT_WRITE),
+            "waits on the write"
+        );
+        assert_eq!(t.3, A::DEPTH_STENCIL_ATTACHMENT_READ, "and only reads");
+        assert_eq!(
+            (t.4, s.layout),
+            (L::DEPTH_ATTACHMENT_OPTIMAL, L::DEPTH_READ_ONLY_OPTIMAL)
+        );
+        // Two passes testing one after the other need nothing between them; the next frame's
+        // write waits on the tests.
+        assert!(transition(&mut s, Access::DepthTest, true, GRAPHICS_QUEUE).is_none());
+        let t = barrier(&mut s, Access::DepthAttachment, true);
+        assert_eq!(t.4, L::DEPTH_READ_ONLY_OPTIMAL);
     }
 
     #[test]
