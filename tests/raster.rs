@@ -446,24 +446,13 @@ fn a_pass_and_its_pipeline_must_agree_on_a_depth_attachment() {
         .unwrap();
     let spec = Specialization::new();
     let shader = vkgi::shaders::RASTER_TONEMAP_FRAG;
-    let covered = full_screen(
-        &gpu,
-        "covered",
-        shader,
-        (target, Pixels::Covered),
-        Blend::Add,
-        &spec,
-    )
-    .unwrap();
-    let every = full_screen(
-        &gpu,
-        "every",
-        shader,
-        (target, Pixels::All),
-        Blend::Add,
-        &spec,
-    )
-    .unwrap();
+    let pipeline = |name, pixels| {
+        full_screen(&gpu, name, shader, (target, pixels), Blend::Add, &spec).unwrap()
+    };
+    let (covered, every) = (
+        pipeline("covered", Pixels::Covered),
+        pipeline("every", Pixels::All),
+    );
     for (name, pipeline, with_depth, expected) in [
         ("covered", &covered, false, "no depth attachment"),
         ("every", &every, true, "no format for"),
