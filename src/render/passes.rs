@@ -4,7 +4,7 @@
 use ash::vk;
 use glam::Vec3;
 
-use super::full_screen::{Blend, Pixels, full_screen};
+use super::full_screen::{Blend, FullScreenShaders, Pixels, full_screen, full_screen_with};
 use super::targets::{GBUFFER_DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT, LDR_RENDER_FORMAT, View};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Depth, Draw, Gpu, GpuResult, Image, PixelPasses,
@@ -522,18 +522,17 @@ fn direct_lighting(
             specialization,
         )?));
     }
-    Ok(DirectLighting::Fragment(RasterPipeline::new(
+    let shaders = FullScreenShaders {
+        vertex: shaders::RASTER_LIGHTING_VERT,
+        fragment: shaders::RASTER_LIGHTING_FRAG,
+    };
+    let target = (HDR_FORMAT, Pixels::Covered);
+    Ok(DirectLighting::Fragment(full_screen_with(
         gpu,
-        &RasterPipelineDesc {
-            name: DIRECT_LIGHTING,
-            vertex: shaders::RASTER_LIGHTING_VERT,
-            fragment: Some(shaders::RASTER_LIGHTING_FRAG),
-            color_formats: &[HDR_FORMAT],
-            depth: Some(Depth::Covered(GBUFFER_DEPTH_FORMAT)),
-            depth_bias: None,
-            additive_blend: false,
-            conservative: false,
-            specialization,
-        },
+        DIRECT_LIGHTING,
+        shaders,
+        target,
+        Blend::Replace,
+        specialization,
     )?))
 }
