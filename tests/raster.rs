@@ -477,3 +477,86 @@ fn a_pass_and_its_pipeline_must_agree_on_a_depth_attachment() {
     }
     common::assert_no_validation_errors(&gpu);
 }
+
+/// The ambient baseline drawn inside direct lighting (one fragment pass, the G-buffer read
+/// once) gives the image of direct lighting followed by its compute pass apart, with direct
+/// light and with indirect light alone; and that indirect light is albedo · E / π in f64 of the
+/// surface each pixel sees (found by a ray through its centre), E given, within the G-buffer's
+/// half-float albedo, at all but the pixels along edges, where the ray and the rasteriser may
+/// see different surfaces.
+#[test]
+fn the_ambient_term_inside_direct_lighting_is_albedo_times_e_over_pi() {
+    const LIT: &str = "direct lighting + ambient";
+    let gpu = common::gpu_with(Some(vkgi::gpu::PixelPasses::Fragment));
+    let scene = Scene::load("cornell").unwrap();
+    let entry = vkgi::gi::registry::find("ambient").unwrap();
+    let e = [0.5, 0.25, 2.0];
+    let irradiance = ("ambient-irradiance".to_string(), "0.5,0.25,2".to_string());
+    let settings = entry.settings(&[irradiance]).unwrap();
+    let run = |indirect_only: bool, lookup_apart: bool| {
+        let options = vkgi::render::FrameOptions {
+            width: W,
+            height: H,
+            indirect_only,
+            lookup_apart,
+            ..vkgi::render::FrameOptions::default()
+        };
+        let mut frame = vkgi::render::Frame::new(&gpu, &scene, options).unwrap();
+        let mut method = entry
+            .create(&vkgi::gi::registry::Setup::new(&gpu, &scene), &settings)
+            .unwrap();
+        let ring = vkgi::render::runner::run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 2)
+            .unwrap();
+        let passes: Vec<String> = ring
+            .profiler
+            .report()
+            .passes
+            .iter()
+            .map(|p| p.name.clone())
+            .collect();
+        (frame.read_hdr(&gpu).unwrap(), passes)
+    };
+    for indirect_only in [false, true] {
+        let (inside, inside_passes) = run(indirect_only, false);
+        let (apart, apart_passes) = run(indirect_only, true);
+        assert!(inside_passes.iter().any(|p| p == LIT), "{inside_passes:?}");
+        assert!(
+            !inside_passes.iter().any(|p| p == "ambient"),
+            "{inside_passes:?}"
+        );
+        assert!(
+            apart_passes.iter().any(|p| p == "ambient"),
+            "{apart_passes:?}"
+        );
+        assert!(!apart_passes.iter().any(|p| p == LIT), "{apart_passes:?}");
+        let (worst, brightest) = common::worst_difference(&inside, &apart);
+        assert!(
+            worst <= 1e-6 * brightest,
+            "indirect only {indirect_only}: inside and apart differ by {worst} (brightest {brightest})"
+        );
+        if !indirect_only {
+            continue;
+        }
+        let bvh = vkgi::scene::bvh::Bvh::build(&scene.mesh);
+        let albedo = vkgi::gi::ambient::fit::albedo_image(&scene, &bvh, W, H);
+        let mut matching = 0;
+        let mut covered = 0;
+        for (got, a) in inside.iter().zip(&albedo) {
+            if a.iter().all(|&v| v == 0.0) {
+                continue;
+            }
+            covered += 1;
+            let close = (0..3).all(|c| {
+                let want = f64::from(a[c]) * e[c] / std::f64::consts::PI;
+                (f64::from(got[c]) - want).abs() <= 1e-3 * want.max(1e-6)
+            });
+            matching += usize::from(close);
+        }
+        assert!(covered > (W * H / 2) as usize, "{covered} covered pixels");
+        assert!(
+            matching as f64 >= 0.98 * covered as f64,
+            "only {matching} of {covered} covered pixels are albedo · E / π"
+        );
+    }
+    common::assert_no_validation_errors(&gpu);
+}

@@ -8,8 +8,7 @@ use super::full_screen::{Blend, FullScreenShaders, Pixels, full_screen, full_scr
 use super::targets::{GBUFFER_DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT, LDR_RENDER_FORMAT, View};
 use crate::gpu::{
     Binding, ComputePass, ComputePipeline, Depth, Draw, Gpu, GpuResult, Image, PixelPasses,
-    PushConstants, RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Sampler,
-    Specialization,
+    RasterPass, RasterPipeline, RasterPipelineDesc, Recorder, Sampler, Specialization,
 };
 use crate::scene::gpu::{SceneBuffers, shadow_view_ranges};
 use crate::scene::{Light, Material, Scene};
@@ -114,8 +113,8 @@ fn most_views(shared_light_views: &[(u32, u32)]) -> u32 {
 
 /// What direct lighting's fragment form is specialised on (the scene's material terms and its
 /// shared lights' views): a GI method that draws direct light with its own per-pixel light in
-/// one pass (`GiMethod::record_lit_lookup`) builds its pipeline with these constants, its
-/// shaders including raster/lighting_vertex.glsl and raster/lighting_pixel.glsl.
+/// one pass (`GiMethod::record_lit_lookup`) builds its pipeline with these constants
+/// ([`lit_pipeline`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DirectShape(Specialization);
 
@@ -141,11 +140,28 @@ impl DirectShape {
             && light_varying_words(shared_light_views) <= ids::LIGHTING_VARYING_WORDS;
         fits.then_some(DirectShape(specialization))
     }
+}
 
-    /// The specialisation constants (ids 0 to 3) of direct lighting's shaders.
-    pub fn specialization(&self) -> &Specialization {
-        &self.0
-    }
+/// The pipeline of a pass that draws direct lighting of `shape` with a GI method's light
+/// (`GiMethod::record_lit_lookup`, drawn by [`DirectDraw::draw_with`]), with that shape: the
+/// method's `shaders` (which include raster/lighting_vertex.glsl and
+/// raster/lighting_pixel.glsl) specialised with direct lighting's constants and what `own`
+/// adds, a full-screen triangle into the HDR image over the pixels a surface covers, replacing
+/// what was there. None where direct lighting has no fragment form (`shape` None).
+pub fn lit_pipeline(
+    gpu: &Gpu,
+    shape: Option<DirectShape>,
+    name: &str,
+    shaders: FullScreenShaders,
+    own: impl FnOnce(Specialization) -> Specialization,
+) -> GpuResult<Option<(DirectShape, RasterPipeline)>> {
+    let Some(shape) = shape else {
+        return Ok(None);
+    };
+    let spec = own(shape.0.clone());
+    let target = (HDR_FORMAT, Pixels::Covered);
+    let pipeline = full_screen_with(gpu, name, shaders, target, Blend::Replace, &spec)?;
+    Ok(Some((shape, pipeline)))
 }
 
 /// One view's direct lighting as a fragment pass, for a GI method to draw with its own light
@@ -153,21 +169,44 @@ impl DirectShape {
 /// shadow map, the lights) and push constants of direct lighting, and the HDR image it writes.
 pub struct DirectDraw<'a> {
     pub shape: &'a DirectShape,
-    pub bindings: Vec<Binding<'a>>,
+    bindings: Vec<Binding<'a>>,
     push: LightingPush,
-    pub hdr: &'a Image,
+    hdr: &'a Image,
     /// The view's G-buffer depth: the pass shades only the pixels a surface covers
     /// (`Pixels::Covered`), and the rest keep their clear value, [`BACKGROUND`].
-    pub depth: &'a Image,
+    depth: &'a Image,
 }
 
 /// What direct lighting leaves in the HDR image where no surface covers a pixel: no light
 /// (the shaders' output there too), alpha 1.
 pub const BACKGROUND: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
 
-impl DirectDraw<'_> {
-    pub fn push(&self) -> &dyn PushConstants {
-        &self.push
+impl<'a> DirectDraw<'a> {
+    /// Draws the view's direct lighting with a GI method's light as pass `name`, through
+    /// `pipeline` (built by [`DirectShape::lit_pipeline`] for this draw's shape) with the
+    /// method's bindings `own` beside direct lighting's; the background keeps [`BACKGROUND`].
+    pub fn draw_with<'b>(
+        &self,
+        rec: &mut Recorder,
+        name: &'static str,
+        pipeline: &RasterPipeline,
+        own: impl IntoIterator<Item = Binding<'b>>,
+    ) -> GpuResult<()>
+    where
+        'a: 'b,
+    {
+        let mut bindings: Vec<Binding<'b>> = self.bindings.clone();
+        bindings.extend(own);
+        rec.raster(&RasterPass {
+            name,
+            pipeline,
+            bindings: &bindings,
+            push: &self.push,
+            color: &[(self.hdr, 0, BACKGROUND)],
+            depth: Some((self.depth, 0)),
+            draw: Draw::Vertices(3),
+            keep_contents: false,
+        })
     }
 }
 

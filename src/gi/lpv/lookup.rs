@@ -35,7 +35,7 @@ use crate::gpu::{
     Specialization,
 };
 use crate::render::full_screen::{Blend, FullScreenShaders, Pixels, full_screen, full_screen_with};
-use crate::render::passes::{BACKGROUND, DirectDraw, DirectShape};
+use crate::render::passes::{DirectDraw, DirectShape, lit_pipeline};
 use crate::render::targets::{HDR_FORMAT, View};
 use crate::scene::Scene;
 use crate::shaders;
@@ -290,25 +290,6 @@ fn field_words(fields: &[LookupField]) -> FieldWords {
         [near.scale, near.offset, 0.0, 0.0],
         [far.scale, far.offset, 0.0, 0.0],
     ]
-}
-
-/// Direct lighting of `shape` with a lookup drawn in (`shaders`, specialised by `spec` on top
-/// of direct lighting's constants); None where direct lighting has no fragment form (`shape`
-/// None).
-fn lit_pipeline(
-    gpu: &Gpu,
-    shape: Option<DirectShape>,
-    name: &str,
-    shaders: FullScreenShaders,
-    spec: impl FnOnce(Specialization) -> Specialization,
-) -> GpuResult<Option<(DirectShape, RasterPipeline)>> {
-    let Some(shape) = shape else {
-        return Ok(None);
-    };
-    let spec = spec(shape.specialization().clone());
-    let target = (HDR_FORMAT, Pixels::Covered);
-    let pipeline = full_screen_with(gpu, name, shaders, target, Blend::Replace, &spec)?;
-    Ok(Some((shape, pipeline)))
 }
 
 /// `--lookup-resolution half`'s lookup into a quarter-size image per view.
@@ -642,27 +623,13 @@ impl Lookup {
         else {
             return Ok(false);
         };
-        let mut bindings = direct.bindings.clone();
-        let name = match self.record_half(rec, &ctx.views[view], view, fields)? {
+        match self.record_half(rec, &ctx.views[view], view, fields)? {
             Some(light) => {
-                bindings.push(Binding::image_read(ids::LOOKUP_HALF_LIGHT, light));
-                LIT_UPSAMPLE
+                let half = Binding::image_read(ids::LOOKUP_HALF_LIGHT, light);
+                direct.draw_with(rec, LIT_UPSAMPLE, pipeline, [half])?;
             }
-            None => {
-                bindings.extend(self.field_bindings(fields)?);
-                LIT_LOOKUP
-            }
-        };
-        rec.raster(&RasterPass {
-            name,
-            pipeline,
-            bindings: &bindings,
-            push: direct.push(),
-            color: &[(direct.hdr, 0, BACKGROUND)],
-            depth: Some((direct.depth, 0)),
-            draw: Draw::Vertices(3),
-            keep_contents: false,
-        })?;
+            None => direct.draw_with(rec, LIT_LOOKUP, pipeline, self.field_bindings(fields)?)?,
+        }
         Ok(true)
     }
 }
