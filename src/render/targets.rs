@@ -188,6 +188,20 @@ pub fn check_buffer(gpu: &Gpu, what: &str, bytes: u64) -> Result<(), InputError>
     Ok(())
 }
 
+/// Check a buffer of `bytes` that shaders also read as 16-byte texels against
+/// [`check_buffer`]'s limits and the device's most texels in a texel buffer.
+pub fn check_texel_buffer(gpu: &Gpu, what: &str, bytes: u64) -> Result<(), InputError> {
+    check_buffer(gpu, what, bytes)?;
+    let limit = gpu.info.max_texel_buffer_elements;
+    if bytes.div_ceil(16) > u64::from(limit) {
+        return Err(InputError::new(format!(
+            "{what} needs {} texels of 16 bytes, over the device's limit of {limit} in a texel buffer",
+            bytes.div_ceil(16)
+        )));
+    }
+    Ok(())
+}
+
 /// Check an image size against vkgi's and the device's limits.
 pub fn check_image_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), InputError> {
     let limit = MAX_IMAGE_SIDE.min(gpu.info.max_image_dimension_2d);

@@ -23,7 +23,7 @@ use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder,
     Specialization,
 };
-use crate::render::targets::{View, check_buffer};
+use crate::render::targets::{View, check_buffer, check_texel_buffer};
 use crate::scene::Scene;
 use crate::shader_shared::LINEAR_WORKGROUP;
 use crate::shaders;
@@ -273,8 +273,9 @@ impl Passes {
         check_buffer(gpu, "the VAL mip chain", val_bytes)?;
         let corners = u64::from(settings.cascades) * u64::from(settings.resolution + 1).pow(3);
         check_buffer(gpu, "the cache address volume", corners * 4)?;
+        // The apply pass reads the caches as texels (rv/apply.comp says why).
         let cache_bytes = u64::from(settings.capacity) * u64::from(stride(settings.bands)) * 16;
-        check_buffer(gpu, "the cache buffer", cache_bytes)?;
+        check_texel_buffer(gpu, "the cache buffer", cache_bytes)?;
         let specular_bytes =
             u64::from(settings.capacity) * u64::from(specular_texels(settings.specular)) * 16;
         check_buffer(gpu, "the specular map buffer", specular_bytes)?;
@@ -296,7 +297,7 @@ impl Passes {
                 gpu.create_buffer(&BufferDesc::storage("rv address volume", corners * 4))?,
                 gpu.create_buffer(&BufferDesc::storage("rv address volume", corners * 4))?,
             ],
-            caches: gpu.create_buffer(&BufferDesc::storage("rv caches", cache_bytes))?,
+            caches: gpu.create_buffer(&BufferDesc::storage_texels("rv caches", cache_bytes))?,
             specular: gpu.create_buffer(&BufferDesc::storage(
                 "rv specular maps",
                 specular_bytes.max(16),
@@ -622,7 +623,7 @@ impl Passes {
                 Binding::image_read(ids::RV_GBUFFER_SPECULAR, &g.specular),
                 Binding::image_write(ids::RV_HDR, &view.hdr),
                 Binding::read(ids::RV_ADDRESS, &self.address[set]),
-                Binding::read(ids::RV_CACHES, &self.caches),
+                Binding::texels(ids::RV_CACHES, &self.caches),
                 Binding::read(ids::RV_SPECULAR, &self.specular),
                 Binding::write(ids::RV_STATE, &self.state[set]),
             ],
