@@ -54,6 +54,15 @@ impl<'a> BufferDesc<'a> {
             ..BufferDesc::storage(name, size)
         }
     }
+
+    /// A storage buffer that shaders may also read as `uvec4` texels, bit for bit (a uniform
+    /// texel buffer of RGBA32UI over the whole buffer; floats read back by uintBitsToFloat).
+    pub fn storage_uint_texels(name: &'a str, size: u64) -> Self {
+        BufferDesc {
+            texels: Some(vk::Format::R32G32B32A32_UINT),
+            ..BufferDesc::storage(name, size)
+        }
+    }
 }
 
 pub struct Buffer {

@@ -8,9 +8,12 @@
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
-layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
-layout(binding = RAD_ELEMENTS, std430) readonly buffer Elements { Element elements[]; };
-layout(binding = RAD_INDIRECT, std430) readonly buffer Indirect { vec4 indirect[]; };
+// The surfaces (six texels each), the elements (two) and their indirect irradiance read as
+// texels, bit for bit: lavapipe reads a storage buffer at an index that differs across lanes
+// lane by lane, in a loop with a branch a lane.
+layout(binding = RAD_SURFACES) uniform usamplerBuffer surfaces;
+layout(binding = RAD_ELEMENTS) uniform usamplerBuffer elements;
+layout(binding = RAD_INDIRECT) uniform usamplerBuffer indirect;
 layout(binding = RAD_SHOT, std430) readonly buffer ShotBuffer { Shot shot; };
 layout(binding = RAD_TRIANGLE_PATCH, std430) readonly buffer TrianglePatch { uint triangle_patch[]; };
 layout(binding = RAD_PATCH_SURFACES, std430) readonly buffer PatchSurfaces { uvec2 patch_surfaces[]; };
@@ -37,21 +40,24 @@ void main() {
     uint s = back ? patch_surfaces[patch_index].y : patch_surfaces[patch_index].x;
     vec3 irradiance = pc.ambient != 0u ? shot.ambient.rgb : vec3(0.0);
     if (s != NO_SURFACE) {
-        Surface surface = surfaces[s];
-        vec3 local = position.xyz - surface.origin_texel.xyz;
-        vec2 texel = vec2(dot(local, surface.axis_t_area.xyz), dot(local, surface.axis_b.xyz))
-            / surface.origin_texel.w - 0.5;
+        int record = 6 * int(s);
+        vec4 origin_texel = uintBitsToFloat(texelFetch(surfaces, record));
+        vec3 axis_t = uintBitsToFloat(texelFetch(surfaces, record + 1).xyz);
+        vec3 axis_b = uintBitsToFloat(texelFetch(surfaces, record + 2).xyz);
+        uvec4 grid = texelFetch(surfaces, record + 5);
+        vec3 local = position.xyz - origin_texel.xyz;
+        vec2 texel = vec2(dot(local, axis_t), dot(local, axis_b)) / origin_texel.w - 0.5;
         ivec2 base = ivec2(floor(texel));
         vec2 f = texel - vec2(base);
         vec4 sum = vec4(0.0);
         for (int k = 0; k < 4; k++) {
             ivec2 at = base + ivec2(k & 1, k >> 1);
-            if (any(lessThan(at, ivec2(0))) || at.x >= int(surface.grid.y) || at.y >= int(surface.grid.z)) continue;
-            uint e = surface.grid.x + uint(at.y) * surface.grid.y + uint(at.x);
-            if (elements[e].position_area.w <= 0.0) continue;
+            if (any(lessThan(at, ivec2(0))) || at.x >= int(grid.y) || at.y >= int(grid.z)) continue;
+            uint e = grid.x + uint(at.y) * grid.y + uint(at.x);
+            if (uintBitsToFloat(texelFetch(elements, 2 * int(e)).w) <= 0.0) continue;
             float w = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y);
             w = max(w, 1e-6);
-            sum += vec4(indirect[e].rgb * w, w);
+            sum += vec4(uintBitsToFloat(texelFetch(indirect, int(e)).rgb) * w, w);
         }
         if (sum.w > 0.0) irradiance += sum.rgb / sum.w;
     }

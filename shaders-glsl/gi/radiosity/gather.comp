@@ -15,8 +15,10 @@
 
 layout(local_size_x = LINEAR_WORKGROUP) in;
 
-layout(binding = RAD_ELEMENTS, std430) readonly buffer Elements { Element elements[]; };
-layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
+// The elements (two texels each) and the surfaces (six) read as texels, bit for bit: lavapipe
+// reads a storage buffer at an index that differs across lanes lane by lane, in a loop.
+layout(binding = RAD_ELEMENTS) uniform usamplerBuffer elements;
+layout(binding = RAD_SURFACES) uniform usamplerBuffer surfaces;
 layout(binding = RAD_SHOT, std430) readonly buffer ShotBuffer { Shot shot; };
 layout(binding = RAD_LOCATIONS, std430) readonly buffer Locations { Location locations[]; };
 layout(binding = RAD_UNSHOT, std430) buffer Unshot { vec4 unshot[]; };
@@ -51,7 +53,8 @@ void main() {
     if (e >= pc.element_count) return;
     float kind = location.normal_kind.w;
     if (kind == LOCATION_NONE) return;
-    Element element = elements[e];
+    Element element = Element(uintBitsToFloat(texelFetch(elements, 2 * int(e))),
+                              uintBitsToFloat(texelFetch(elements, 2 * int(e) + 1)));
     float area = element.position_area.w;
     uint surface = floatBitsToUint(element.albedo_surface.w);
     bool deliver = (pc.flags & GATHER_DELIVER) != 0u;
@@ -73,7 +76,7 @@ void main() {
     float r = sqrt(r2);
     vec3 d = v / r;
     float cos_s = dot(n_s, d);
-    float cos_x = -dot(surfaces[surface].normal.xyz, d);
+    float cos_x = -dot(uintBitsToFloat(texelFetch(surfaces, 6 * int(surface) + 3).xyz), d);
     if (cos_s <= 0.0 || cos_x <= 0.0) return;
     ivec3 texel = item_texel(d, n_s, pc.hemicube != 0u, pc.resolution);
     uint seen = imageLoad(item_ids, texel).x;

@@ -283,7 +283,8 @@ impl Solver {
         let slots = options.locations.max(1);
         let element_count = elements.elements.len().max(1);
         let vec4_bytes = element_count as u64 * 16;
-        crate::render::targets::check_buffer(
+        // The display reads the elements, their indirect irradiance and the surfaces as texels.
+        crate::render::targets::check_texel_buffer(
             gpu,
             &format!("radiosity's {element_count} elements"),
             vec4_bytes * 2,
@@ -307,11 +308,18 @@ impl Solver {
                 }
             })
             .collect();
-        let surfaces = gpu.upload_storage_items("radiosity surfaces", surface_data.len().max(1), |i| {
+        let texels = vk::Format::R32G32B32A32_UINT;
+        let surface_count = surface_data.len().max(1);
+        crate::render::targets::check_texel_buffer(
+            gpu,
+            &format!("radiosity's {surface_count} surfaces"),
+            (surface_count * std::mem::size_of::<GpuSurface>()) as u64,
+        )?;
+        let surfaces = gpu.upload_texel_items("radiosity surfaces", surface_count, texels, |i| {
             surface_data.get(i).copied().unwrap_or(bytemuck::Zeroable::zeroed())
         })?;
         let element_data =
-            gpu.upload_storage_items("radiosity elements", element_count, |i| {
+            gpu.upload_texel_items("radiosity elements", element_count, texels, |i| {
                 let e = elements.elements.get(i).copied().unwrap_or_default();
                 [
                     e.position.extend(e.area).to_array(),
@@ -341,7 +349,10 @@ impl Solver {
             element_data,
             unshot: storage("radiosity unshot", vec4_bytes)?,
             direct: storage("radiosity direct irradiance", vec4_bytes)?,
-            indirect: storage("radiosity indirect irradiance", vec4_bytes)?,
+            indirect: gpu.create_buffer(&BufferDesc::storage_uint_texels(
+                "radiosity indirect irradiance",
+                vec4_bytes,
+            ))?,
             stats: storage("radiosity surface stats", surface_count * 16)?,
             emission_unshot: storage("radiosity emission unshot", surface_count * 4)?,
             shot: storage("radiosity shot", std::mem::size_of::<ShotState>() as u64)?,
@@ -702,8 +713,8 @@ impl Solver {
             name: "radiosity gather",
             pipeline: &self.gather_pass,
             bindings: &[
-                Binding::read(ids::RAD_ELEMENTS, &self.element_data),
-                Binding::read(ids::RAD_SURFACES, &self.surfaces),
+                Binding::texels(ids::RAD_ELEMENTS, &self.element_data),
+                Binding::texels(ids::RAD_SURFACES, &self.surfaces),
                 Binding::read(ids::RAD_SHOT, shot),
                 Binding::read(ids::RAD_LOCATIONS, &self.locations),
                 Binding::write(ids::RAD_UNSHOT, &self.unshot),
@@ -734,9 +745,9 @@ impl Solver {
     /// What the display reads.
     pub fn display_bindings(&self) -> [Binding<'_>; 4] {
         [
-            Binding::read(ids::RAD_SURFACES, &self.surfaces),
-            Binding::read(ids::RAD_ELEMENTS, &self.element_data),
-            Binding::read(ids::RAD_INDIRECT, &self.indirect),
+            Binding::texels(ids::RAD_SURFACES, &self.surfaces),
+            Binding::texels(ids::RAD_ELEMENTS, &self.element_data),
+            Binding::texels(ids::RAD_INDIRECT, &self.indirect),
             Binding::read(ids::RAD_SHOT, &self.shot),
         ]
     }
