@@ -23,9 +23,17 @@ struct VplShadowView {
     mat4 view_projection;
     vec4 eye_texel;   // xyz the VPL's position, w = texel size per unit distance
 };
-layout(binding = GATHER_VPL_SHADOW_VIEWS, std430) readonly buffer VplShadowViews {
-    VplShadowView vpl_views[];
-};
+// Each map's view as five texels (the view-projection's columns, then eye_texel): lavapipe
+// reads a storage buffer at any index but constants and push constants (here a loop counter)
+// lane by lane, in a loop with a branch a lane, where a texel fetch is one gather.
+layout(binding = GATHER_VPL_SHADOW_VIEWS) uniform samplerBuffer vpl_views;
+
+VplShadowView vpl_view(uint layer) {
+    int first = 5 * int(layer);
+    mat4 view_projection = mat4(texelFetch(vpl_views, first), texelFetch(vpl_views, first + 1),
+                                texelFetch(vpl_views, first + 2), texelFetch(vpl_views, first + 3));
+    return VplShadowView(view_projection, texelFetch(vpl_views, first + 4));
+}
 layout(binding = GATHER_HDR, rgba32f) uniform image2D hdr;
 
 layout(push_constant) uniform Push {
@@ -66,7 +74,7 @@ float tap(uint layer, vec4 clip) {
 
 // The clip position of p (moved 1.5 texels along n against acne) in VPL shadow map `layer`.
 vec4 shadow_clip(uint layer, vec3 p, vec3 n) {
-    VplShadowView view = vpl_views[layer];
+    VplShadowView view = vpl_view(layer);
     float offset = 1.5 * view.eye_texel.w * distance(view.eye_texel.xyz, p);
     return view.view_projection * vec4(p + n * offset, 1.0);
 }

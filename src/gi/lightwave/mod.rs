@@ -487,7 +487,7 @@ impl GiMethod for LightWave {
                     vpl_shadow_map,
                     ctx.shadow_sampler,
                 ),
-                Binding::read(ids::GATHER_VPL_SHADOW_VIEWS, self.shadows.views()),
+                Binding::texels(ids::GATHER_VPL_SHADOW_VIEWS, self.shadows.views()),
                 Binding::image_write(ids::GATHER_HDR, &view.hdr),
             ];
         if let Some(vertex) = &self.vertex {

@@ -16,7 +16,7 @@ use crate::gpu::{
     Binding, Draw, Buffer, BufferDesc, Gpu, GpuResult, Image, ImageDesc, RasterPass, RasterPipeline,
     RasterPipelineDesc, Recorder,
 };
-use crate::render::targets::MAX_RESOURCE_BYTES;
+use crate::render::targets::{MAX_RESOURCE_BYTES, check_texel_buffer};
 use crate::scene::{Light, Scene};
 use crate::shader_shared::{RASTER_TRIANGLES, RASTER_VERTICES};
 use crate::shaders;
@@ -33,7 +33,8 @@ crate::push_constants! {
     }
 }
 
-/// One map's camera as the gather reads it (`VplShadowView` in gather.comp).
+/// One map's camera as the gather reads it (five texels: `vpl_view` in
+/// gi/lightwave/composite.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct GpuView {
@@ -89,10 +90,10 @@ impl VplShadows {
                 specialization: &crate::gpu::Specialization::new(),
             },
         )?;
-        let views = gpu.create_buffer(&BufferDesc::storage(
-            "lightwave shadow views",
-            u64::from(layers) * std::mem::size_of::<GpuView>() as u64,
-        ))?;
+        // The gather reads the views as texels (gi/lightwave/composite.glsl says why).
+        let view_bytes = u64::from(layers) * std::mem::size_of::<GpuView>() as u64;
+        check_texel_buffer(gpu, "the VPL shadow views", view_bytes)?;
+        let views = gpu.create_buffer(&BufferDesc::storage_texels("lightwave shadow views", view_bytes))?;
         let extent = (scene.bounds_max - scene.bounds_min).length().max(1e-3);
         Ok(VplShadows {
             pipeline,
