@@ -493,3 +493,60 @@ fn parts_that_share_what_one_writes_fail_the_frame_naming_it() {
         );
     }
 }
+
+/// The methods that draw their light inside direct lighting's fragment pass
+/// (`GiMethod::record_lit_lookup`); the others add it in passes of their own after it.
+const DRAWN_INSIDE_DIRECT_LIGHTING: &[&str] = &["ambient", "ilpv", "lpv", "radiosity"];
+
+/// A method drawn inside direct lighting gives the image of direct lighting followed by its
+/// passes apart (`FrameOptions::lookup_apart`), with direct light and with indirect light alone,
+/// in the glossy Cornell box (every material term on): within 1e-6 of the brightest pixel. The
+/// profile names the pass that drew it ("direct lighting + ...") where and only where it was.
+#[test]
+fn every_method_drawn_inside_direct_lighting_gives_the_image_of_its_passes_apart() {
+    let gpu = common::gpu_with(Some(vkgi::gpu::PixelPasses::Fragment));
+    let scene = Scene::load("cornell-glossy").unwrap();
+    for entry in registry::methods() {
+        for indirect_only in [false, true] {
+            let run = |lookup_apart: bool| {
+                let options = FrameOptions {
+                    lookup_apart,
+                    ..options(indirect_only)
+                };
+                let mut frame = Frame::new(&gpu, &scene, options).unwrap();
+                let mut method = build(&gpu, &scene, entry);
+                let ring = run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 2).unwrap();
+                let report = ring.profiler.report();
+                let passes: Vec<String> = report.passes.iter().map(|p| p.name.clone()).collect();
+                (frame.read_hdr(&gpu).unwrap(), passes)
+            };
+            let (inside, inside_passes) = run(false);
+            let (apart, apart_passes) = run(true);
+            let case = format!("{}, indirect only {indirect_only}", entry.name);
+            let drawn_inside =
+                |passes: &[String]| passes.iter().any(|p| p.starts_with("direct lighting + "));
+            let direct_apart = |passes: &[String]| passes.iter().any(|p| p == "direct lighting");
+            assert_eq!(
+                drawn_inside(&inside_passes),
+                DRAWN_INSIDE_DIRECT_LIGHTING.contains(&entry.name),
+                "{case}: {inside_passes:?}"
+            );
+            assert_eq!(
+                direct_apart(&inside_passes),
+                !drawn_inside(&inside_passes),
+                "{case}: {inside_passes:?}"
+            );
+            assert!(
+                direct_apart(&apart_passes) && !drawn_inside(&apart_passes),
+                "{case}: {apart_passes:?}"
+            );
+            assert!(max_abs(&inside) > 0.0, "{case}: black");
+            let (worst, brightest) = common::worst_difference(&inside, &apart);
+            assert!(
+                worst <= 1e-6 * brightest,
+                "{case}: inside and apart differ by {worst} (brightest {brightest})"
+            );
+        }
+    }
+    common::assert_no_validation_errors(&gpu);
+}

@@ -150,7 +150,7 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
         seen.contains(&(
             "ambient".to_string(),
             "-".to_string(),
-            "ambient".to_string()
+            "direct lighting + ambient".to_string()
         )),
         "the baseline without a size axis is profiled once: {seen:?}"
     );
@@ -183,10 +183,17 @@ fn the_profile_has_one_positive_entry_per_method_lattice_and_pass() {
             .iter()
             .map(|p| p["pass"].as_str().unwrap())
             .collect();
-        // LPV and ILPV draw their lookup inside direct lighting: one pass in place of two.
-        let expected = match method.contains("lpv") {
-            true => vec!["g-buffer", "tone map", "direct lighting + lpv lookup"],
-            false => vec!["g-buffer", "direct lighting", "tone map"],
+        // LPV and ILPV draw their lookup inside direct lighting, ambient its term, radiosity
+        // its display: one pass in place of two, whose bound the profile states.
+        let inside = match method {
+            "lpv" | "ilpv" => Some("direct lighting + lpv lookup"),
+            "ambient" => Some("direct lighting + ambient"),
+            "radiosity" => Some("direct lighting + radiosity display"),
+            _ => None,
+        };
+        let expected = match inside {
+            Some(pass) => vec!["g-buffer", "tone map", pass],
+            None => vec!["g-buffer", "direct lighting", "tone map"],
         };
         assert_eq!(names, expected, "{method}");
         for p in pixel_passes {

@@ -114,7 +114,7 @@ fn most_views(shared_light_views: &[(u32, u32)]) -> u32 {
 /// What direct lighting's fragment form is specialised on (the scene's material terms and its
 /// shared lights' views): a GI method that draws direct light with its own per-pixel light in
 /// one pass (`GiMethod::record_lit_lookup`) builds its pipeline with these constants
-/// ([`lit_pipeline`]).
+/// ([`LitPipeline`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DirectShape(Specialization);
 
@@ -122,7 +122,7 @@ impl DirectShape {
     /// Direct lighting's shape for `scene` lit by `raster_lights` on `gpu`, when it is a
     /// fragment pass (None: a compute pass, where `gpu` runs that form or the lights do not fit
     /// the flat varyings).
-    pub fn of(gpu: &Gpu, scene: &Scene, raster_lights: &[Light]) -> Option<DirectShape> {
+    fn of(gpu: &Gpu, scene: &Scene, raster_lights: &[Light]) -> Option<DirectShape> {
         let (shared_light_views, specialization) = lighting_specialization(scene, raster_lights);
         Self::fitting(gpu, &shared_light_views, specialization)
     }
@@ -142,33 +142,78 @@ impl DirectShape {
     }
 }
 
-/// The pipeline of a pass that draws direct lighting of `shape` with a GI method's light
-/// (`GiMethod::record_lit_lookup`, drawn by [`DirectDraw::draw_with`]), with that shape: the
-/// method's `shaders` (which include raster/lighting_vertex.glsl and
-/// raster/lighting_pixel.glsl) specialised with direct lighting's constants and what `own`
-/// adds, a full-screen triangle into the HDR image over the pixels a surface covers, replacing
-/// what was there. None where direct lighting has no fragment form (`shape` None).
-pub fn lit_pipeline(
-    gpu: &Gpu,
-    shape: Option<DirectShape>,
-    name: &str,
-    shaders: FullScreenShaders,
-    own: impl FnOnce(Specialization) -> Specialization,
-) -> GpuResult<Option<(DirectShape, RasterPipeline)>> {
-    let Some(shape) = shape else {
-        return Ok(None);
-    };
-    let spec = own(shape.0.clone());
-    let target = (HDR_FORMAT, Pixels::Covered);
-    let pipeline = full_screen_with(gpu, name, shaders, target, Blend::Replace, &spec)?;
-    Ok(Some((shape, pipeline)))
+/// A GI method's pass that draws direct lighting with its own light in one pass
+/// (`GiMethod::record_lit_lookup`): its pipeline, built for the shape direct lighting's fragment
+/// form has in the scene the method was made for.
+pub struct LitPipeline {
+    shape: DirectShape,
+    pipeline: RasterPipeline,
+}
+
+impl LitPipeline {
+    /// The pass `name` for `scene` on `gpu`: the method's `shaders` (which include
+    /// raster/lighting_vertex.glsl and raster/lighting_pixel.glsl) specialised with direct
+    /// lighting's constants and what `own` adds, a full-screen triangle into the HDR image over
+    /// the pixels a surface covers, replacing what was there. None where direct lighting is a
+    /// compute pass there (the method then adds its light in a pass of its own).
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        name: &str,
+        shaders: FullScreenShaders,
+        own: impl FnOnce(Specialization) -> Specialization,
+    ) -> GpuResult<Option<LitPipeline>> {
+        let Some(shape) = DirectShape::of(gpu, scene, &scene.raster_lights()) else {
+            return Ok(None);
+        };
+        let spec = own(shape.0.clone());
+        let target = (HDR_FORMAT, Pixels::Covered);
+        let pipeline = full_screen_with(gpu, name, shaders, target, Blend::Replace, &spec)?;
+        Ok(Some(LitPipeline { shape, pipeline }))
+    }
+
+    /// Whether it draws `direct` (direct lighting of the shape it was built for).
+    pub fn fits(&self, direct: &DirectDraw) -> bool {
+        self.shape == *direct.shape
+    }
+
+    /// Draws the view's direct lighting `direct` with the method's light as pass `name`, the
+    /// method's bindings `own` beside direct lighting's; the background keeps [`BACKGROUND`].
+    /// False, with nothing recorded, where it does not fit `direct`.
+    pub fn draw<'a, 'b>(
+        &self,
+        rec: &mut Recorder,
+        direct: &DirectDraw<'a>,
+        name: &'static str,
+        own: impl IntoIterator<Item = Binding<'b>>,
+    ) -> GpuResult<bool>
+    where
+        'a: 'b,
+    {
+        if !self.fits(direct) {
+            return Ok(false);
+        }
+        let mut bindings: Vec<Binding<'b>> = direct.bindings.clone();
+        bindings.extend(own);
+        rec.raster(&RasterPass {
+            name,
+            pipeline: &self.pipeline,
+            bindings: &bindings,
+            push: &direct.push,
+            color: &[(direct.hdr, 0, BACKGROUND)],
+            depth: Some((direct.depth, 0)),
+            draw: Draw::Vertices(3),
+            keep_contents: false,
+        })?;
+        Ok(true)
+    }
 }
 
 /// One view's direct lighting as a fragment pass, for a GI method to draw with its own light
 /// (`GiMethod::record_lit_lookup`): the pipeline's shape, the bindings (the G-buffer, the
 /// shadow map, the lights) and push constants of direct lighting, and the HDR image it writes.
 pub struct DirectDraw<'a> {
-    pub shape: &'a DirectShape,
+    shape: &'a DirectShape,
     bindings: Vec<Binding<'a>>,
     push: LightingPush,
     hdr: &'a Image,
@@ -180,35 +225,6 @@ pub struct DirectDraw<'a> {
 /// What direct lighting leaves in the HDR image where no surface covers a pixel: no light
 /// (the shaders' output there too), alpha 1.
 pub const BACKGROUND: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
-
-impl<'a> DirectDraw<'a> {
-    /// Draws the view's direct lighting with a GI method's light as pass `name`, through
-    /// `pipeline` (built by [`DirectShape::lit_pipeline`] for this draw's shape) with the
-    /// method's bindings `own` beside direct lighting's; the background keeps [`BACKGROUND`].
-    pub fn draw_with<'b>(
-        &self,
-        rec: &mut Recorder,
-        name: &'static str,
-        pipeline: &RasterPipeline,
-        own: impl IntoIterator<Item = Binding<'b>>,
-    ) -> GpuResult<()>
-    where
-        'a: 'b,
-    {
-        let mut bindings: Vec<Binding<'b>> = self.bindings.clone();
-        bindings.extend(own);
-        rec.raster(&RasterPass {
-            name,
-            pipeline,
-            bindings: &bindings,
-            push: &self.push,
-            color: &[(self.hdr, 0, BACKGROUND)],
-            depth: Some((self.depth, 0)),
-            draw: Draw::Vertices(3),
-            keep_contents: false,
-        })
-    }
-}
 
 /// Direct lighting's shared lights' shadow views (empty when the scene has more lights than
 /// [`MAX_SHARED_LIGHTS`]) and its specialisation constants for `scene` lit by `raster_lights`.

@@ -1,24 +1,12 @@
 #version 460
-// Indirect light per pixel (spec 004 pass A6): the pixel's triangle gives its patch, the side
-// facing the eye its surface; the surface's indirect irradiance is interpolated bilinearly
-// between the grid's texels that lie on the polygon, the ambient term still to arrive is added,
-// and albedo / π times that goes into the HDR image.
-#include "gi/radiosity/radiosity.glsl"
+// The display as a pass of its own (radiosity/display.glsl): albedo / pi times the indirect
+// irradiance added to the HDR image, where direct lighting is a compute pass (GPUs) or the
+// frame asks for the passes apart.
+#include "gi/radiosity/display.glsl"
 #include "common/math.glsl"
 
 layout(local_size_x = IMAGE_WORKGROUP, local_size_y = IMAGE_WORKGROUP) in;
 
-// The surfaces (six texels each), the elements (two) and their indirect irradiance read as
-// texels, bit for bit: lavapipe reads a storage buffer at an index that differs across lanes
-// lane by lane, in a loop with a branch a lane.
-layout(binding = RAD_SURFACES) uniform usamplerBuffer surfaces;
-layout(binding = RAD_ELEMENTS) uniform usamplerBuffer elements;
-layout(binding = RAD_INDIRECT) uniform usamplerBuffer indirect;
-layout(binding = RAD_SHOT, std430) readonly buffer ShotBuffer { Shot shot; };
-layout(binding = RAD_TRIANGLE_PATCH, std430) readonly buffer TrianglePatch { uint triangle_patch[]; };
-layout(binding = RAD_PATCH_SURFACES, std430) readonly buffer PatchSurfaces { uvec2 patch_surfaces[]; };
-layout(binding = RAD_PATCH_NORMALS, std430) readonly buffer PatchNormals { vec4 patch_normals[]; };
-layout(binding = RAD_TRIANGLE_IDS, r32ui) readonly uniform uimage2D triangle_ids;
 layout(binding = RAD_GBUFFER_POSITION, rgba32f) readonly uniform image2D gbuffer_position;
 layout(binding = RAD_GBUFFER_ALBEDO, rgba16f) readonly uniform image2D gbuffer_albedo;
 layout(binding = RAD_HDR, rgba32f) uniform image2D hdr;
@@ -33,34 +21,9 @@ void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
     vec4 position = imageLoad(gbuffer_position, pixel);
-    uint triangle = imageLoad(triangle_ids, pixel).x;
-    if (position.w == 0.0 || triangle == 0u) return;
-    uint patch_index = triangle_patch[triangle - 1u];
-    bool back = dot(patch_normals[patch_index].xyz, pc.eye.xyz - position.xyz) < 0.0;
-    uint s = back ? patch_surfaces[patch_index].y : patch_surfaces[patch_index].x;
-    vec3 irradiance = pc.ambient != 0u ? shot.ambient.rgb : vec3(0.0);
-    if (s != NO_SURFACE) {
-        int record = 6 * int(s);
-        vec4 origin_texel = uintBitsToFloat(texelFetch(surfaces, record));
-        vec3 axis_t = uintBitsToFloat(texelFetch(surfaces, record + 1).xyz);
-        vec3 axis_b = uintBitsToFloat(texelFetch(surfaces, record + 2).xyz);
-        uvec4 grid = texelFetch(surfaces, record + 5);
-        vec3 local = position.xyz - origin_texel.xyz;
-        vec2 texel = vec2(dot(local, axis_t), dot(local, axis_b)) / origin_texel.w - 0.5;
-        ivec2 base = ivec2(floor(texel));
-        vec2 f = texel - vec2(base);
-        vec4 sum = vec4(0.0);
-        for (int k = 0; k < 4; k++) {
-            ivec2 at = base + ivec2(k & 1, k >> 1);
-            if (any(lessThan(at, ivec2(0))) || at.x >= int(grid.y) || at.y >= int(grid.z)) continue;
-            uint e = grid.x + uint(at.y) * grid.y + uint(at.x);
-            if (uintBitsToFloat(texelFetch(elements, 2 * int(e)).w) <= 0.0) continue;
-            float w = ((k & 1) != 0 ? f.x : 1.0 - f.x) * ((k >> 1) != 0 ? f.y : 1.0 - f.y);
-            w = max(w, 1e-6);
-            sum += vec4(uintBitsToFloat(texelFetch(indirect, int(e)).rgb) * w, w);
-        }
-        if (sum.w > 0.0) irradiance += sum.rgb / sum.w;
-    }
+    if (position.w == 0.0) return;
+    vec3 irradiance;
+    if (!display_irradiance(pixel, position.xyz, pc.eye.xyz, pc.ambient != 0u, irradiance)) return;
     vec3 albedo = imageLoad(gbuffer_albedo, pixel).rgb;
     imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(albedo * irradiance * INV_PI, 0.0));
 }

@@ -5,7 +5,7 @@
 
 layout(local_size_x = LINEAR_WORKGROUP) in;
 
-layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
+layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { SurfaceRecord surfaces[]; };
 layout(binding = RAD_SHOT, std430) readonly buffer ShotBuffer { Shot shot; };
 layout(binding = RAD_UNSHOT, std430) buffer Unshot { vec4 unshot[]; };
 layout(binding = RAD_EMISSION_UNSHOT, std430) buffer EmissionUnshot { uint emission_unshot[]; };

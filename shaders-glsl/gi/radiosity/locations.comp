@@ -8,7 +8,7 @@
 
 layout(local_size_x = LINEAR_WORKGROUP) in;
 
-layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
+layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { SurfaceRecord surfaces[]; };
 layout(binding = RAD_ELEMENTS, std430) readonly buffer Elements { Element elements[]; };
 layout(binding = RAD_UNSHOT, std430) readonly buffer Unshot { vec4 unshot[]; };
 layout(binding = RAD_EMISSION_UNSHOT, std430) readonly buffer EmissionUnshot { uint emission_unshot[]; };
@@ -29,7 +29,7 @@ void main() {
     bool shooting = shot.shooter != NO_SHOOTER && slot < shot.blocks_x * shot.blocks_y;
     vec4 p = vec4(0.0);
     vec4 u = vec4(0.0);
-    Surface surface;
+    SurfaceRecord surface;
     if (shooting) {
         surface = surfaces[shot.shooter];
         uint side = 1u << shot.level;

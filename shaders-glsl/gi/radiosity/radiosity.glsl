@@ -4,7 +4,7 @@
 #include "common/sampling.glsl"
 
 // One side of a patch: a shooter and the owner of a width x height grid of elements.
-struct Surface {
+struct SurfaceRecord {
     vec4 origin_texel;   // xyz corner of texel (0, 0), w = texel side
     vec4 axis_t_area;    // xyz grid x axis (unit), w = area (sum of its elements')
     vec4 axis_b;         // xyz grid y axis (unit)

@@ -16,7 +16,7 @@
 
 layout(local_size_x = 256) in;
 
-layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
+layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { SurfaceRecord surfaces[]; };
 layout(binding = RAD_STATS, std430) readonly buffer Stats { vec4 stats[]; };
 layout(binding = RAD_IMPORTANCE_STATS, std430) readonly buffer ImportanceStats { vec4 importance_stats[]; };
 layout(binding = RAD_EMISSION_UNSHOT, std430) readonly buffer EmissionUnshot { uint emission_unshot[]; };
@@ -106,7 +106,7 @@ void main() {
     if (pc.mode == SELECT_IMPORTANCE_SHOOTER && shoots) shooter_power = importance_stats[chosen].z;
     shot.power = vec4(total, most, shooter_power, shot.power.w + (shoots ? 1.0 : 0.0));
     if (shoots) {
-        Surface surface = surfaces[chosen];
+        SurfaceRecord surface = surfaces[chosen];
         uint side = 1u << surface.grid.w;
         shot.shooter = chosen;
         shot.level = surface.grid.w;

@@ -13,7 +13,7 @@
 
 layout(local_size_x = LINEAR_WORKGROUP) in;
 
-layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
+layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { SurfaceRecord surfaces[]; };
 layout(binding = RAD_ELEMENTS, std430) readonly buffer Elements { Element elements[]; };
 layout(binding = RAD_UNSHOT, std430) readonly buffer Unshot { vec4 unshot[]; };
 layout(binding = RAD_EMISSION_UNSHOT, std430) readonly buffer EmissionUnshot { uint emission_unshot[]; };

@@ -15,7 +15,7 @@
 layout(local_size_x = LINEAR_WORKGROUP) in;
 
 layout(binding = RAD_ELEMENTS, std430) readonly buffer Elements { Element elements[]; };
-layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { Surface surfaces[]; };
+layout(binding = RAD_SURFACES, std430) readonly buffer Surfaces { SurfaceRecord surfaces[]; };
 layout(binding = RAD_IMPORTANCE, std430) buffer Importance { float importance[]; };
 layout(binding = RAD_IMPORTANCE_UNSHOT, std430) buffer ImportanceUnshot { float importance_unshot[]; };
 layout(binding = RAD_IMPORTANCE_RECEIVED, std430) buffer ImportanceReceived { float received[]; };

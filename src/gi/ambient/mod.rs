@@ -19,12 +19,12 @@ use crate::gi::registry::{MethodEntry, Setup};
 use crate::gi::settings::{Kind, Setting, Settings};
 use crate::gi::{FrameContext, GiMethod, PixelPass};
 use crate::gpu::{
-    Binding, Buffer, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, RasterPipeline,
-    Recorder, Specialization,
+    Binding, Buffer, ComputePass, ComputePipeline, Gpu, GpuError, GpuResult, Recorder,
+    Specialization,
 };
 use crate::gi::shared::oracle::{self, IndirectOracle};
 use crate::render::full_screen::FullScreenShaders;
-use crate::render::passes::{DirectDraw, DirectShape, lit_pipeline};
+use crate::render::passes::{DirectDraw, LitPipeline};
 use crate::scene::bvh::Bvh;
 use crate::shaders;
 use bindings as ids;
@@ -105,7 +105,7 @@ pub struct Ambient {
     pipeline: ComputePipeline,
     /// Direct lighting with the term, for direct lighting of this shape (None: direct lighting
     /// is a compute pass).
-    lit: Option<(DirectShape, RasterPipeline)>,
+    lit: Option<LitPipeline>,
     /// E as the lit pass's vertex shader reads it (rgb, w 0), rewritten after a refit.
     irradiance_words: Buffer,
 }
@@ -124,8 +124,7 @@ impl Ambient {
             vertex: shaders::GI_AMBIENT_LIT_VERT,
             fragment: shaders::GI_AMBIENT_LIT_FRAG,
         };
-        let shape = DirectShape::of(gpu, setup.scene, &setup.scene.raster_lights());
-        let lit = lit_pipeline(gpu, shape, LIT_AMBIENT, shaders, |spec| spec)?;
+        let lit = LitPipeline::new(gpu, setup.scene, LIT_AMBIENT, shaders, |spec| spec)?;
         let irradiance_words = gpu.upload_storage("ambient irradiance", &words(irradiance))?;
         Ok(Ambient {
             irradiance,
@@ -235,13 +234,9 @@ impl GiMethod for Ambient {
         _view: usize,
         direct: &DirectDraw,
     ) -> GpuResult<bool> {
-        let Some((_, pipeline)) = self.lit.as_ref().filter(|(shape, _)| shape == direct.shape)
-        else {
-            return Ok(false);
-        };
         let irradiance = Binding::read(ids::AMBIENT_IRRADIANCE, &self.irradiance_words);
-        direct.draw_with(rec, LIT_AMBIENT, pipeline, [irradiance])?;
-        Ok(true)
+        let lit = self.lit.as_ref();
+        lit.map_or(Ok(false), |lit| lit.draw(rec, direct, LIT_AMBIENT, [irradiance]))
     }
 
     fn pixel_passes(&self) -> Vec<PixelPass> {

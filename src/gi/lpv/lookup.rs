@@ -35,7 +35,7 @@ use crate::gpu::{
     Specialization,
 };
 use crate::render::full_screen::{Blend, FullScreenShaders, Pixels, full_screen, full_screen_with};
-use crate::render::passes::{DirectDraw, DirectShape, lit_pipeline};
+use crate::render::passes::{DirectDraw, LitPipeline};
 use crate::render::targets::{HDR_FORMAT, View};
 use crate::scene::Scene;
 use crate::shaders;
@@ -317,7 +317,7 @@ pub struct Lookup {
     /// Direct lighting with the lookup (at half resolution, with the upsample), for direct
     /// lighting of this shape (None: direct lighting is a compute pass for the scene the lookup
     /// was built for).
-    lit: Option<(DirectShape, RasterPipeline)>,
+    lit: Option<LitPipeline>,
     /// At half resolution, the lookup the upsample reads.
     half: Option<HalfLookup>,
     /// How the fields are read.
@@ -365,14 +365,13 @@ impl Lookup {
         let written = field_words(fields);
         let count = fields.len();
         let own = |spec: Specialization| spec.with_u32(ids::LOOKUP_FIELDS_CONSTANT, count as u32);
-        let shape = DirectShape::of(gpu, scene, &scene.raster_lights());
         let (apart, lit, half) = match resolution {
             LookupResolution::Full => {
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LIT_LOOKUP_VERT,
                     fragment: filter_shaders.lit,
                 };
-                let lit = lit_pipeline(gpu, shape, LIT_LOOKUP, shaders, own)?;
+                let lit = LitPipeline::new(gpu, scene, LIT_LOOKUP, shaders, own)?;
                 let shaders = FullScreenShaders {
                     vertex: shaders::GI_LPV_LOOKUP_VERT,
                     fragment: filter_shaders.apart,
@@ -401,7 +400,7 @@ impl Lookup {
                     vertex: shaders::RASTER_LIGHTING_VERT,
                     fragment: shaders::GI_LPV_LIT_UPSAMPLE_FRAG,
                 };
-                let lit = lit_pipeline(gpu, shape, LIT_UPSAMPLE, shaders, |spec| spec)?;
+                let lit = LitPipeline::new(gpu, scene, LIT_UPSAMPLE, shaders, |spec| spec)?;
                 let apart = Apart::Fragment(full_screen(
                     gpu,
                     UPSAMPLE,
@@ -619,17 +618,15 @@ impl Lookup {
         direct: &DirectDraw,
         fields: &[LookupField],
     ) -> GpuResult<bool> {
-        let Some((_, pipeline)) = self.lit.as_ref().filter(|(shape, _)| shape == direct.shape)
-        else {
+        let Some(lit) = self.lit.as_ref().filter(|lit| lit.fits(direct)) else {
             return Ok(false);
         };
         match self.record_half(rec, &ctx.views[view], view, fields)? {
             Some(light) => {
                 let half = Binding::image_read(ids::LOOKUP_HALF_LIGHT, light);
-                direct.draw_with(rec, LIT_UPSAMPLE, pipeline, [half])?;
+                lit.draw(rec, direct, LIT_UPSAMPLE, [half])
             }
-            None => direct.draw_with(rec, LIT_LOOKUP, pipeline, self.field_bindings(fields)?)?,
+            None => lit.draw(rec, direct, LIT_LOOKUP, self.field_bindings(fields)?),
         }
-        Ok(true)
     }
 }

@@ -6,7 +6,10 @@
 //! disc-approximation form factor's share to every visible element. Punctual lights shoot
 //! first, as point emitters. The display adds the elements' indirect irradiance, interpolated
 //! across each polygon, plus the ambient term still to arrive (§4.1.6); the rasteriser draws
-//! the direct light.
+//! the direct light. Where direct lighting is a fragment pass (lavapipe) the display is drawn
+//! inside it (`radiosity/lit_display.frag`: the G-buffer read once, the HDR image written once,
+//! the background skipped); elsewhere, or when the frame asks (`FrameOptions::lookup_apart`), it
+//! is a compute pass of its own (`radiosity/display.comp`).
 //!
 //! Three modes (`--radiosity-mode`): `pr`, progressive refinement; `id`, importance-driven
 //! (importance shot from the user's camera weights the shooter choice, §5); `pd`,
@@ -26,8 +29,12 @@ use crate::error::InputError;
 use crate::gi::registry::{MethodEntry, Setup};
 use crate::gi::settings::{Kind, Setting, Settings};
 use crate::gi::shared::triangle_ids::TriangleIds;
-use crate::gi::{Convergence, FrameContext, GiMethod};
-use crate::gpu::{Binding, Buffer, ComputePass, ComputePipeline, GpuResult, Recorder, Specialization};
+use crate::gi::{Convergence, FrameContext, GiMethod, PixelPass};
+use crate::gpu::{
+    Binding, Buffer, ComputePass, ComputePipeline, GpuResult, Recorder, Specialization,
+};
+use crate::render::full_screen::FullScreenShaders;
+use crate::render::passes::{DirectDraw, LitPipeline};
 use crate::shaders;
 use bindings as ids;
 use elements::{Density, Elements};
@@ -127,6 +134,23 @@ pub const METHODS: &[MethodEntry] = &[MethodEntry {
     create: |setup, settings| Ok(Box::new(Radiosity::new(setup, settings)?)),
 }];
 
+/// The display as a pass of its own, and drawn inside direct lighting (their names in the
+/// profile).
+const DISPLAY: &str = "radiosity display";
+const LIT_DISPLAY: &str = "direct lighting + radiosity display";
+
+/// What the display must move and compute at a covered pixel at the ideal. Apart: the pixel's
+/// position (16 B) and triangle (4 B), its albedo (8 B), the HDR pixel read and written (16 B
+/// each); at a background pixel whether a surface covers it (the depth, 4 B). Inside direct
+/// lighting, which reads the position and albedo already: the triangle. The surfaces' records
+/// and the elements' irradiance serve many pixels (at the ideal, read once a frame). Flops: the
+/// side facing the eye 8, the grid texel and its fractions 21, four corners' weights and
+/// weighted sums 40, the normalisation and the ambient term 6, albedo / pi times it added 9.
+const DISPLAY_BYTES_PER_PIXEL: f64 = 16.0 + 4.0 + 8.0 + 16.0 + 16.0;
+const LIT_DISPLAY_BYTES_PER_PIXEL: f64 = 4.0;
+const DISPLAY_BACKGROUND_BYTES: f64 = 4.0;
+const DISPLAY_FLOPS_PER_PIXEL: f64 = 8.0 + 21.0 + 40.0 + 6.0 + 9.0;
+
 crate::push_constants! {
     struct DisplayPush {
         eye: [f32; 4],
@@ -201,7 +225,11 @@ pub struct Radiosity {
     settings: RadiositySettings,
     pub solver: Solver,
     triangle_ids: TriangleIds,
+    /// The display as a compute pass of its own.
     display: ComputePipeline,
+    /// Direct lighting with the display, for direct lighting of this shape (None: direct
+    /// lighting is a compute pass).
+    lit_display: Option<LitPipeline>,
     triangle_patch: Buffer,
     patch_surfaces: Buffer,
     patch_normals: Buffer,
@@ -247,15 +275,24 @@ impl Radiosity {
             elements.patches.len(),
             |i| elements.patches[i].normal.extend(0.0).to_array(),
         )?;
+        let shaders = FullScreenShaders {
+            vertex: shaders::RASTER_LIGHTING_VERT,
+            fragment: shaders::GI_RADIOSITY_LIT_DISPLAY_FRAG,
+        };
+        let ambient = u32::from(settings.ambient);
+        let lit_display = LitPipeline::new(gpu, scene, LIT_DISPLAY, shaders, |spec| {
+            spec.with_u32(ids::RAD_AMBIENT_CONSTANT, ambient)
+        })?;
         Ok(Radiosity {
             solver: Solver::new(gpu, scene, elements, settings.solver)?,
             triangle_ids: TriangleIds::new(gpu, "radiosity triangle ids")?,
             display: ComputePipeline::new(
                 gpu,
-                "radiosity display",
+                DISPLAY,
                 shaders::GI_RADIOSITY_DISPLAY_COMP,
                 &Specialization::new(),
             )?,
+            lit_display,
             triangle_patch,
             patch_surfaces,
             patch_normals,
@@ -265,6 +302,20 @@ impl Radiosity {
             last_frame: None,
             settings,
         })
+    }
+
+    /// What the display reads besides the G-buffer, for view `index`: the solution (surfaces,
+    /// elements, their indirect irradiance, the shot's ambient term), the triangles' patches
+    /// and sides, and the view's triangle ids.
+    fn display_inputs(&self, index: usize) -> Vec<Binding<'_>> {
+        let mut bindings = self.solver.display_bindings().to_vec();
+        bindings.extend([
+            Binding::read(ids::RAD_TRIANGLE_PATCH, &self.triangle_patch),
+            Binding::read(ids::RAD_PATCH_SURFACES, &self.patch_surfaces),
+            Binding::read(ids::RAD_PATCH_NORMALS, &self.patch_normals),
+            Binding::image_read(ids::RAD_TRIANGLE_IDS, self.triangle_ids.image(index)),
+        ]);
+        bindings
     }
 
     /// Shots this frame: as set, or adapted so the frame interval approaches the budget.
@@ -345,23 +396,16 @@ impl GiMethod for Radiosity {
 
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, index: usize) -> GpuResult<()> {
         let view = &ctx.views[index];
-        let [surfaces, elements, indirect, shot] = self.solver.display_bindings();
+        let mut bindings = self.display_inputs(index);
+        bindings.extend([
+            Binding::image_read(ids::RAD_GBUFFER_POSITION, &view.gbuffer.position),
+            Binding::image_read(ids::RAD_GBUFFER_ALBEDO, &view.gbuffer.albedo),
+            Binding::image_write(ids::RAD_HDR, &view.hdr),
+        ]);
         rec.compute(&ComputePass {
-            name: "radiosity display",
+            name: DISPLAY,
             pipeline: &self.display,
-            bindings: &[
-                surfaces,
-                elements,
-                indirect,
-                shot,
-                Binding::read(ids::RAD_TRIANGLE_PATCH, &self.triangle_patch),
-                Binding::read(ids::RAD_PATCH_SURFACES, &self.patch_surfaces),
-                Binding::read(ids::RAD_PATCH_NORMALS, &self.patch_normals),
-                Binding::image_read(ids::RAD_TRIANGLE_IDS, self.triangle_ids.image(index)),
-                Binding::image_read(ids::RAD_GBUFFER_POSITION, &view.gbuffer.position),
-                Binding::image_read(ids::RAD_GBUFFER_ALBEDO, &view.gbuffer.albedo),
-                Binding::image_write(ids::RAD_HDR, &view.hdr),
-            ],
+            bindings: &bindings,
             push: &DisplayPush {
                 eye: view.eye.position.extend(1.0).to_array(),
                 size: [view.width(), view.height()],
@@ -369,6 +413,36 @@ impl GiMethod for Radiosity {
             },
             threads: [view.width(), view.height(), 1],
         })
+    }
+
+    fn record_lit_lookup(
+        &self,
+        rec: &mut Recorder,
+        _ctx: &FrameContext,
+        index: usize,
+        direct: &DirectDraw,
+    ) -> GpuResult<bool> {
+        let lit = self.lit_display.as_ref();
+        lit.map_or(Ok(false), |lit| lit.draw(rec, direct, LIT_DISPLAY, self.display_inputs(index)))
+    }
+
+    fn pixel_passes(&self) -> Vec<PixelPass> {
+        vec![
+            PixelPass {
+                pass: DISPLAY,
+                bytes_per_pixel: DISPLAY_BYTES_PER_PIXEL,
+                flops_per_pixel: DISPLAY_FLOPS_PER_PIXEL,
+                with_direct_lighting: false,
+                background_bytes: Some(DISPLAY_BACKGROUND_BYTES),
+            },
+            PixelPass {
+                pass: LIT_DISPLAY,
+                bytes_per_pixel: LIT_DISPLAY_BYTES_PER_PIXEL,
+                flops_per_pixel: DISPLAY_FLOPS_PER_PIXEL,
+                with_direct_lighting: true,
+                background_bytes: Some(0.0),
+            },
+        ]
     }
 
     fn convergence(&self) -> Option<Convergence> {

@@ -196,7 +196,8 @@ impl ShotState {
     }
 }
 
-/// GPU surface layout (`Surface` in radiosity.glsl).
+/// GPU surface layout (`SurfaceRecord` in radiosity.glsl; the display and the gather read it
+/// as six RGBA32UI texels).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct GpuSurface {
