@@ -515,9 +515,7 @@ fn every_method_drawn_inside_direct_lighting_gives_the_image_of_its_passes_apart
                 };
                 let mut frame = Frame::new(&gpu, &scene, options).unwrap();
                 let mut method = build(&gpu, &scene, entry);
-                let ring = run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 2).unwrap();
-                let report = ring.profiler.report();
-                let passes: Vec<String> = report.passes.iter().map(|p| p.name.clone()).collect();
+                let passes = common::run_naming_passes(&gpu, &mut frame, method.as_mut(), 2);
                 (frame.read_hdr(&gpu).unwrap(), passes)
             };
             let (inside, inside_passes) = run(false);

@@ -2687,14 +2687,6 @@ fn three_frames(
 ) -> (vkgi::render::Frame, Vec<String>) {
     let mut frame = vkgi::render::Frame::new(gpu, scene, options).unwrap();
     let mut method = two_scale::create(&Setup::new(gpu, scene), settings).unwrap();
-    let ring =
-        vkgi::render::runner::run_frames(gpu, &mut frame, Some(method.as_mut()), 0, 3).unwrap();
-    let passes = ring
-        .profiler
-        .report()
-        .passes
-        .iter()
-        .map(|p| p.name.clone())
-        .collect();
+    let passes = common::run_naming_passes(gpu, &mut frame, method.as_mut(), 3);
     (frame, passes)
 }

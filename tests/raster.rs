@@ -505,15 +505,7 @@ fn the_ambient_term_inside_direct_lighting_is_albedo_times_e_over_pi() {
         let mut method = entry
             .create(&vkgi::gi::registry::Setup::new(&gpu, &scene), &settings)
             .unwrap();
-        let ring = vkgi::render::runner::run_frames(&gpu, &mut frame, Some(method.as_mut()), 0, 2)
-            .unwrap();
-        let passes: Vec<String> = ring
-            .profiler
-            .report()
-            .passes
-            .iter()
-            .map(|p| p.name.clone())
-            .collect();
+        let passes = common::run_naming_passes(&gpu, &mut frame, method.as_mut(), 2);
         (frame.read_hdr(&gpu).unwrap(), passes)
     };
     for indirect_only in [false, true] {

@@ -218,6 +218,20 @@ pub fn render_gi(
     render_with(gpu, scene, &mut lpv, options, frames)
 }
 
+/// Run `frames` frames (no warm-up) of `frame` with a GI method; the names of the passes the
+/// profiler timed, in its report's order.
+pub fn run_naming_passes(
+    gpu: &Gpu,
+    frame: &mut Frame,
+    method: &mut dyn vkgi::gi::GiMethod,
+    frames: u32,
+) -> Vec<String> {
+    let ring =
+        vkgi::render::runner::run_frames(gpu, frame, Some(method), 0, frames).expect("frames");
+    let report = ring.profiler.report();
+    report.passes.iter().map(|p| p.name.clone()).collect()
+}
+
 /// Render `frames` frames of `scene` with a GI method and return the linear HDR pixels.
 pub fn render_with(
     gpu: &Gpu,
