@@ -7,16 +7,15 @@
 // polygon, and the ambient term still to arrive is added.
 #include "gi/radiosity/radiosity.glsl"
 
-// The surfaces (six texels each), the elements (two) and their indirect irradiance read as
-// texels, bit for bit: lavapipe reads a storage buffer at an index that differs across lanes
+// Everything read as texels, bit for bit (floats through uintBitsToFloat): lavapipe reads a storage buffer at an index that differs across lanes
 // lane by lane, in a loop with a branch a lane.
 layout(binding = RAD_SURFACES) uniform usamplerBuffer surfaces;
 layout(binding = RAD_ELEMENTS) uniform usamplerBuffer elements;
 layout(binding = RAD_INDIRECT) uniform usamplerBuffer indirect;
 layout(binding = RAD_SHOT, std430) readonly buffer ShotBuffer { Shot shot; };
-layout(binding = RAD_TRIANGLE_PATCH, std430) readonly buffer TrianglePatch { uint triangle_patch[]; };
-layout(binding = RAD_PATCH_SURFACES, std430) readonly buffer PatchSurfaces { uvec2 patch_surfaces[]; };
-layout(binding = RAD_PATCH_NORMALS, std430) readonly buffer PatchNormals { vec4 patch_normals[]; };
+// Per mesh triangle two texels: its patch's normal (float bits) and its front side's surface,
+// then its back side's surface (src/gi/radiosity/mod.rs triangle_sides).
+layout(binding = RAD_TRIANGLE_SIDES) uniform usamplerBuffer triangle_sides;
 layout(binding = RAD_TRIANGLE_IDS, r32ui) readonly uniform uimage2D triangle_ids;
 
 // The indirect irradiance at the surface point `position` that `pixel` shows, seen from `eye`,
@@ -26,9 +25,10 @@ bool display_irradiance(ivec2 pixel, vec3 position, vec3 eye, bool ambient, out 
     irradiance = vec3(0.0);
     uint triangle = imageLoad(triangle_ids, pixel).x;
     if (triangle == 0u) return false;
-    uint patch_index = triangle_patch[triangle - 1u];
-    bool back = dot(patch_normals[patch_index].xyz, eye - position) < 0.0;
-    uint s = back ? patch_surfaces[patch_index].y : patch_surfaces[patch_index].x;
+    int sides = 2 * int(triangle - 1u);
+    uvec4 front = texelFetch(triangle_sides, sides);
+    bool back = dot(uintBitsToFloat(front.xyz), eye - position) < 0.0;
+    uint s = back ? texelFetch(triangle_sides, sides + 1).x : front.w;
     if (ambient) irradiance = shot.ambient.rgb;
     if (s != NO_SURFACE) {
         int record = 6 * int(s);

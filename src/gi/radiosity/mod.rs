@@ -25,13 +25,15 @@ pub mod table;
 
 use std::time::Instant;
 
+use ash::vk;
+
 use crate::error::InputError;
 use crate::gi::registry::{MethodEntry, Setup};
 use crate::gi::settings::{Kind, Setting, Settings};
 use crate::gi::shared::triangle_ids::TriangleIds;
 use crate::gi::{Convergence, FrameContext, GiMethod, PixelPass};
 use crate::gpu::{
-    Binding, Buffer, ComputePass, ComputePipeline, GpuResult, Recorder, Specialization,
+    Binding, Buffer, ComputePass, ComputePipeline, Gpu, GpuResult, Recorder, Specialization,
 };
 use crate::render::full_screen::FullScreenShaders;
 use crate::render::passes::{DirectDraw, LitPipeline};
@@ -159,6 +161,32 @@ crate::push_constants! {
     }
 }
 
+/// Per mesh triangle, what the display needs to find the surface a pixel shows, as two RGBA32UI
+/// texels (radiosity/display.glsl): its patch's normal (as float bits) and the surface of the
+/// patch's front side, then the surface of its back side (`NO_SURFACE` where light never
+/// reaches a side).
+fn triangle_sides(gpu: &Gpu, elements: &Elements) -> anyhow::Result<Buffer> {
+    let count = elements.triangle_patch.len();
+    let bytes = count.max(1) as u64 * 32;
+    crate::render::targets::check_texel_buffer(gpu, "radiosity's triangle sides", bytes)?;
+    Ok(gpu.upload_texel_items(
+        "radiosity triangle sides",
+        count,
+        vk::Format::R32G32B32A32_UINT,
+        |t| {
+            let Some(&patch) = elements.triangle_patch.get(t) else {
+                return [[0u32; 4]; 2];
+            };
+            let n = elements.patches[patch as usize].normal;
+            let [front, back] = elements.patch_surfaces[patch as usize];
+            [
+                [n.x.to_bits(), n.y.to_bits(), n.z.to_bits(), front],
+                [back, 0, 0, 0],
+            ]
+        },
+    )?)
+}
+
 /// The method's settings, parsed and checked.
 #[derive(Clone, Debug)]
 pub struct RadiositySettings {
@@ -230,9 +258,9 @@ pub struct Radiosity {
     /// Direct lighting with the display, for direct lighting of this shape (None: direct
     /// lighting is a compute pass).
     lit_display: Option<LitPipeline>,
-    triangle_patch: Buffer,
-    patch_surfaces: Buffer,
-    patch_normals: Buffer,
+    /// Per mesh triangle, its patch's normal and the surfaces of its two sides
+    /// (`triangle_sides`).
+    triangle_sides: Buffer,
     /// pd's simulated field of view, and whether it changed since the surfaces in it were last
     /// marked.
     simulated: SimulatedView,
@@ -260,21 +288,7 @@ impl Radiosity {
             ))
             .into());
         }
-        let triangle_patch = gpu.upload_storage_items(
-            "radiosity triangle patches",
-            elements.triangle_patch.len(),
-            |i| elements.triangle_patch[i],
-        )?;
-        let patch_surfaces = gpu.upload_storage_items(
-            "radiosity patch surfaces",
-            elements.patch_surfaces.len(),
-            |i| elements.patch_surfaces[i],
-        )?;
-        let patch_normals = gpu.upload_storage_items(
-            "radiosity patch normals",
-            elements.patches.len(),
-            |i| elements.patches[i].normal.extend(0.0).to_array(),
-        )?;
+        let triangle_sides = triangle_sides(gpu, &elements)?;
         let shaders = FullScreenShaders {
             vertex: shaders::RASTER_LIGHTING_VERT,
             fragment: shaders::GI_RADIOSITY_LIT_DISPLAY_FRAG,
@@ -293,9 +307,7 @@ impl Radiosity {
                 &Specialization::new(),
             )?,
             lit_display,
-            triangle_patch,
-            patch_surfaces,
-            patch_normals,
+            triangle_sides,
             simulated: SimulatedView::new(settings.decay_shots),
             simulated_changed: false,
             budgeted_shots: 1.0,
@@ -305,14 +317,12 @@ impl Radiosity {
     }
 
     /// What the display reads besides the G-buffer, for view `index`: the solution (surfaces,
-    /// elements, their indirect irradiance, the shot's ambient term), the triangles' patches
-    /// and sides, and the view's triangle ids.
+    /// elements, their indirect irradiance, the shot's ambient term), the triangles' sides and
+    /// the view's triangle ids.
     fn display_inputs(&self, index: usize) -> Vec<Binding<'_>> {
         let mut bindings = self.solver.display_bindings().to_vec();
         bindings.extend([
-            Binding::read(ids::RAD_TRIANGLE_PATCH, &self.triangle_patch),
-            Binding::read(ids::RAD_PATCH_SURFACES, &self.patch_surfaces),
-            Binding::read(ids::RAD_PATCH_NORMALS, &self.patch_normals),
+            Binding::texels(ids::RAD_TRIANGLE_SIDES, &self.triangle_sides),
             Binding::image_read(ids::RAD_TRIANGLE_IDS, self.triangle_ids.image(index)),
         ]);
         bindings
