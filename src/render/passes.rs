@@ -116,7 +116,7 @@ fn most_views(shared_light_views: &[(u32, u32)]) -> u32 {
 /// one pass (`GiMethod::record_lit_lookup`) builds its pipeline with these constants
 /// ([`LitPipeline`]).
 #[derive(Clone, Debug, PartialEq)]
-pub struct DirectShape(Specialization);
+struct DirectShape(Specialization);
 
 impl DirectShape {
     /// Direct lighting's shape for `scene` lit by `raster_lights` on `gpu`, when it is a
