@@ -7,8 +7,9 @@
 // polygon, and the ambient term still to arrive is added.
 #include "gi/radiosity/radiosity.glsl"
 
-// Everything read as texels, bit for bit (floats through uintBitsToFloat): lavapipe reads a storage buffer at an index that differs across lanes
-// lane by lane, in a loop with a branch a lane.
+// Everything read as texels, bit for bit (floats through uintBitsToFloat): lavapipe reads a
+// storage buffer at an index that differs across lanes lane by lane, in a loop with a branch a
+// lane.
 layout(binding = RAD_SURFACES) uniform usamplerBuffer surfaces;
 layout(binding = RAD_ELEMENTS) uniform usamplerBuffer elements;
 layout(binding = RAD_INDIRECT) uniform usamplerBuffer indirect;
