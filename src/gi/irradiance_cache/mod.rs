@@ -23,7 +23,7 @@ pub mod tables;
 use crate::error::InputError;
 use crate::gi::registry::{MethodEntry, Setup};
 use crate::gi::settings::{Kind, Setting, Settings};
-use crate::gi::{Convergence, FrameContext, GiMethod};
+use crate::gi::{Convergence, FrameContext, GiMethod, PixelPass};
 use crate::gpu::{GpuResult, Recorder};
 use crate::reference::Bounces;
 use passes::Passes;
@@ -256,6 +256,10 @@ impl GiMethod for IrradianceCache {
             measure: "tiles with an uncovered pixel in the last round against them and the records held, or the bounces left to compute if more",
             remaining: placement.max(self.bounces_left(&state)),
         })
+    }
+
+    fn pixel_passes(&self) -> Vec<PixelPass> {
+        vec![passes::normalise_pass()]
     }
 
     fn describe(&self) -> Vec<String> {

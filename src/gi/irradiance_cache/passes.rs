@@ -9,7 +9,7 @@ use super::bindings as ids;
 use super::records::{CacheState, GpuRecord};
 use super::tables::{HALF_WIDTH, Tables};
 use super::{CacheSettings, Placement};
-use crate::gi::FrameContext;
+use crate::gi::{FrameContext, PixelPass};
 use crate::reference::Bounces;
 use crate::gpu::{
     Depth,
@@ -26,6 +26,25 @@ pub const TILE_ROUNDS: [u32; 3] = [32, 16, 8];
 pub const ZONE_PIXELS: [f32; 2] = [3.0, 64.0];
 /// Size of a `VkDrawIndirectCommand`.
 const DRAW_COMMAND_BYTES: u64 = 16;
+
+/// The splat's normalisation, a per-pixel pass, by its name in the profile.
+pub const NORMALISE: &str = "ic normalise";
+
+/// What the normalisation must move and compute at the ideal. At a covered pixel: whether a
+/// surface covers it (the depth, 4 B), the splat's weighted sums (16 B), the albedo (8 B), the
+/// HDR pixel read and written (16 B each); at a background pixel the depth. Flops: the weight's
+/// test 1, the sums' mean over pi (one reciprocal with 1/pi folded in, 3 products) 4, the
+/// albedo's products 3, the sum 3. (The splat itself is work per record and its footprint, not
+/// per pixel: it states no per-pixel bound.)
+pub fn normalise_pass() -> PixelPass {
+    PixelPass {
+        pass: NORMALISE,
+        bytes_per_pixel: 4.0 + 16.0 + 8.0 + 16.0 + 16.0,
+        flops_per_pixel: 1.0 + 4.0 + 3.0 + 3.0,
+        with_direct_lighting: false,
+        background_bytes: Some(4.0),
+    }
+}
 /// Format of the splat buffer: Σ w E' (rgb), Σ w.
 const SPLAT_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 
@@ -160,7 +179,7 @@ impl Passes {
             select: compute("ic select", shaders::GI_IRRADIANCE_CACHE_SELECT_COMP)?,
             append: compute("ic append", shaders::GI_IRRADIANCE_CACHE_APPEND_COMP)?,
             reduce: compute("ic reduce", shaders::GI_IRRADIANCE_CACHE_REDUCE_COMP)?,
-            normalise: compute("ic normalise", shaders::GI_IRRADIANCE_CACHE_NORMALISE_COMP)?,
+            normalise: compute(NORMALISE, shaders::GI_IRRADIANCE_CACHE_NORMALISE_COMP)?,
             bounce: compute("ic bounce", shaders::GI_IRRADIANCE_CACHE_BOUNCE_COMP)?,
             snapshot: compute("ic snapshot", shaders::GI_IRRADIANCE_CACHE_SNAPSHOT_COMP)?,
             hemisphere: RasterPipeline::new(
@@ -575,11 +594,11 @@ impl Passes {
         })
     }
 
-    /// Indirect radiance from the splat buffer into the view's HDR image.
+    /// Indirect radiance from the splat buffer into the view's HDR image ([`NORMALISE`]).
     pub fn record_normalise(&self, rec: &mut Recorder, view: &View, index: usize) -> GpuResult<()> {
         let g = &view.gbuffer;
         rec.compute(&ComputePass {
-            name: "ic normalise",
+            name: NORMALISE,
             pipeline: &self.pipelines.normalise,
             bindings: &[
                 Binding::image_read(ids::IC_GBUFFER_POSITION, &g.position),

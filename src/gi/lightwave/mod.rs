@@ -13,6 +13,7 @@
 //! path-traced image (like the ambient oracle, with the per-pixel gather) unless given.
 
 pub mod bindings;
+pub mod cost;
 pub mod cpu;
 pub mod rig;
 pub mod shadows;
@@ -21,7 +22,7 @@ pub mod vertex;
 use crate::error::InputError;
 use crate::gi::registry::{MethodEntry, Setup};
 use crate::gi::settings::{Kind, Setting, Settings};
-use crate::gi::{FrameContext, GiMethod};
+use crate::gi::{FrameContext, GiMethod, PixelPass};
 use crate::gpu::{
     Binding, Buffer, BufferDesc, ComputePass, ComputePipeline, GpuResult, Recorder, Specialization,
 };
@@ -31,6 +32,7 @@ use crate::scene::Light;
 use crate::scene::bvh::Bvh;
 use crate::shaders;
 use bindings as ids;
+use cost::GATHER;
 use rig::Rig;
 use shadows::VplShadows;
 use vertex::VertexGather;
@@ -362,7 +364,7 @@ impl LightWave {
             )?,
             gather_pipeline: ComputePipeline::new(
                 gpu,
-                "lightwave gather",
+                GATHER,
                 if s.per_vertex {
                     shaders::GI_LIGHTWAVE_GATHER_VERTEX_COMP
                 } else {
@@ -494,12 +496,18 @@ impl GiMethod for LightWave {
             bindings.extend(vertex.bindings(ctx, index));
         }
         rec.compute(&ComputePass {
-            name: "lightwave gather",
+            name: GATHER,
             pipeline: &self.gather_pipeline,
             bindings: &bindings,
             push: &push,
             threads: [view.width(), view.height(), 1],
         })
+    }
+
+    fn pixel_passes(&self) -> Vec<PixelPass> {
+        cost::gather_pass(&self.settings, self.light_count, self.shadows.per_light())
+            .into_iter()
+            .collect()
     }
 
     fn describe(&self) -> Vec<String> {

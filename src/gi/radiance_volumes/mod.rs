@@ -8,6 +8,7 @@
 
 pub mod bindings;
 pub mod cascades;
+pub mod cost;
 pub mod cpu;
 pub mod passes;
 pub mod specular;
@@ -17,7 +18,7 @@ pub mod voxels;
 use crate::error::InputError;
 use crate::gi::registry::{MethodEntry, Setup};
 use crate::gi::settings::{Kind, Setting, Settings};
-use crate::gi::{FrameContext, GiMethod};
+use crate::gi::{FrameContext, GiMethod, PixelPass};
 use crate::gpu::{Gpu, GpuResult, Recorder};
 use crate::scene::Scene;
 use crate::scene::dynamic::Aabb;
@@ -266,6 +267,10 @@ impl GiMethod for RadianceVolumes {
     fn record_lookup(&self, rec: &mut Recorder, ctx: &FrameContext, view: usize) -> GpuResult<()> {
         self.passes
             .record_apply(rec, &ctx.views[view], &self.settings)
+    }
+
+    fn pixel_passes(&self) -> Vec<PixelPass> {
+        cost::apply_pass(&self.settings).into_iter().collect()
     }
 
     fn geometry_moved(

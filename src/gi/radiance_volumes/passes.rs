@@ -13,6 +13,7 @@ use gpu_allocator::MemoryLocation;
 
 use super::bindings as ids;
 use super::cascades::Cascades;
+use super::cost::APPLY;
 use super::voxelizer::RasterVoxelizer;
 use super::voxels::VoxelGrid;
 use super::{Bands, VolumeSettings};
@@ -236,7 +237,7 @@ impl Passes {
             light: compute("rv light", shaders::GI_RADIANCE_VOLUMES_LIGHT_COMP)?,
             apply: ComputePipeline::new(
                 gpu,
-                "rv apply",
+                APPLY,
                 shaders::GI_RADIANCE_VOLUMES_APPLY_COMP,
                 &apply_specialization(settings),
             )?,
@@ -614,7 +615,7 @@ impl Passes {
         let set = 1 - self.parity;
         let g = &view.gbuffer;
         rec.compute(&ComputePass {
-            name: "rv apply",
+            name: APPLY,
             pipeline: &self.pipelines.apply,
             bindings: &[
                 Binding::image_read(ids::RV_GBUFFER_POSITION, &g.position),
