@@ -96,8 +96,6 @@ shared_constants! {
     // ---- device-limit probes ----
     LIMITS_SOURCE: u32 = 0;
     LIMITS_DESTINATION: u32 = 1;
-    /// Independent vec4 FMA chains per invocation of the arithmetic probe.
-    LIMITS_FMA_CHAINS: u32 = 2;
     /// FMAs of each chain per trip of the probe's loop (unrolled).
     LIMITS_FMA_UNROLL: u32 = 32;
 
