@@ -38,21 +38,26 @@ layout(binding = GATHER_HDR, rgba32f) uniform image2D hdr;
 
 layout(push_constant) uniform Push {
     uvec2 size;
-    uint light_count;
-    uint per_light;         // VPLs per light
-    uint shadow_mode;       // SHADOWS_*
-    uint maps_per_light;    // VPL shadow maps per light
-    uint steps;             // integrated shadows: interpolation steps per pair
-    uint composite;         // COMPOSITE_*
     float fake;             // the fake-indirect multiplier m (eq 5.2)
     float gain;             // G (1/m²): indirect irradiance = G * I * gather
 } pc;
+
+// What the settings fix, set when the pipeline is built (src/gi/lightwave/mod.rs
+// `gather_specialization`): lavapipe runs both sides of every branch for every pixel, and a
+// loop's body at least once, so with these as push constants every pixel ran the integrated
+// shadows' loops in accurate mode and the shipped composite's direct light in every mode.
+layout(constant_id = 0) const uint LIGHT_COUNT = 1u;
+layout(constant_id = 1) const uint PER_LIGHT = 1u;      // VPLs per light
+layout(constant_id = 2) const uint SHADOW_MODE = 0u;    // SHADOWS_*
+layout(constant_id = 3) const uint MAPS_PER_LIGHT = 0u; // VPL shadow maps per light
+layout(constant_id = 4) const uint STEPS = 1u;          // integrated: interpolation steps per pair
+layout(constant_id = 5) const uint COMPOSITE = 0u;      // COMPOSITE_*
 
 #include "gi/lightwave/rig_gather.glsl"
 
 // The thesis's gather for light l.
 float gather(uint l, vec3 p, vec3 n) {
-    return rig_gather(l * pc.per_light, pc.per_light, p, n);
+    return rig_gather(l * PER_LIGHT, PER_LIGHT, p, n);
 }
 
 // One shadow-map tap at homogeneous clip position `clip` of VPL shadow map `layer`: a 2x2
@@ -84,27 +89,29 @@ vec4 shadow_clip(uint layer, vec3 p, vec3 n) {
 // positions, read in map a for t < 1/2, map b for t > 1/2, both at t = 1/2 (so one step gives
 // the 5 maps' mean).
 float visibility(uint l, vec3 p, vec3 n) {
-    uint first = l * pc.maps_per_light;
-    if (pc.shadow_mode == SHADOWS_ACCURATE) {
+    uint first = l * MAPS_PER_LIGHT;
+    if (SHADOW_MODE == SHADOWS_ACCURATE) {
         float sum = 0.0;
-        for (uint i = 0u; i < pc.maps_per_light; ++i) sum += tap(first + i, shadow_clip(first + i, p, n));
-        return sum / float(pc.maps_per_light);
+        for (uint i = 0u; i < MAPS_PER_LIGHT; ++i) {
+            sum += tap(first + i, shadow_clip(first + i, p, n));
+        }
+        return sum / float(MAPS_PER_LIGHT);
     }
-    if (pc.shadow_mode == SHADOWS_INTEGRATED) {
+    if (SHADOW_MODE == SHADOWS_INTEGRATED) {
         float sum = 0.0;
         for (uint a = 0u; a < 5u; ++a) {
             vec4 clip_a = shadow_clip(first + a, p, n);
             for (uint b = a + 1u; b < 5u; ++b) {
                 vec4 clip_b = shadow_clip(first + b, p, n);
-                for (uint k = 0u; k <= pc.steps; ++k) {
-                    vec4 clip = mix(clip_a, clip_b, float(k) / float(pc.steps));
-                    if (2u * k < pc.steps) sum += tap(first + a, clip);
-                    else if (2u * k > pc.steps) sum += tap(first + b, clip);
+                for (uint k = 0u; k <= STEPS; ++k) {
+                    vec4 clip = mix(clip_a, clip_b, float(k) / float(STEPS));
+                    if (2u * k < STEPS) sum += tap(first + a, clip);
+                    else if (2u * k > STEPS) sum += tap(first + b, clip);
                     else sum += 0.5 * (tap(first + a, clip) + tap(first + b, clip));
                 }
             }
         }
-        return sum / (10.0 * float(pc.steps + 1u));
+        return sum / (10.0 * float(STEPS + 1u));
     }
     return 1.0;
 }
@@ -113,7 +120,7 @@ float visibility(uint l, vec3 p, vec3 n) {
 void direct_irradiance(vec3 p, vec3 n, out vec3 shadowed, out vec3 unshadowed) {
     shadowed = vec3(0.0);
     unshadowed = vec3(0.0);
-    for (uint i = 0u; i < pc.light_count; ++i) {
+    for (uint i = 0u; i < LIGHT_COUNT; ++i) {
         Light light = lights[i];
         vec3 to_light;
         float distance;
@@ -137,33 +144,33 @@ void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     if (any(greaterThanEqual(uvec2(pixel), pc.size))) return;
     vec4 position = imageLoad(gbuffer_position, pixel);
-    if (position.w == 0.0 || pc.composite == COMPOSITE_DIRECT_ONLY) return;
+    if (position.w == 0.0 || COMPOSITE == COMPOSITE_DIRECT_ONLY) return;
     vec3 p = position.xyz;
     vec3 n = normalize(imageLoad(gbuffer_normal, pixel).xyz);
     vec3 albedo_over_pi = imageLoad(gbuffer_albedo, pixel).rgb * INV_PI;
     vec3 added = vec3(0.0);
-    if (pc.composite == COMPOSITE_EQ_4_9 || pc.composite == COMPOSITE_SHIPPED) {
+    if (COMPOSITE == COMPOSITE_EQ_4_9 || COMPOSITE == COMPOSITE_SHIPPED) {
         vec3 irradiance = vec3(0.0);
         prepare_gather(pixel, p, n);
-        for (uint l = 0u; l < pc.light_count; ++l) {
+        for (uint l = 0u; l < LIGHT_COUNT; ++l) {
             float s = gathered(l, p, n);
             if (s == 0.0) continue;
             float v = visibility(l, p, n);
             // As shipped, accurate shadows: 0.2 unshadowed + 0.8 shadowed, the visibility
             // divided by half the map count (the code's /10 with 20 maps, range 0..2).
-            if (pc.composite == COMPOSITE_SHIPPED && pc.shadow_mode == SHADOWS_ACCURATE) {
+            if (COMPOSITE == COMPOSITE_SHIPPED && SHADOW_MODE == SHADOWS_ACCURATE) {
                 v = 0.2 + 0.8 * 2.0 * v;
             }
             irradiance += lights[l].intensity_cos_inner.rgb * (pc.gain * s * v);
         }
         added = albedo_over_pi * irradiance;
     }
-    if (pc.composite == COMPOSITE_SHIPPED || pc.composite == COMPOSITE_FAKE) {
+    if (COMPOSITE == COMPOSITE_SHIPPED || COMPOSITE == COMPOSITE_FAKE) {
         // As shipped: 0.5 direct shadowed + 0.5 direct unshadowed; fake (eq 5.2):
         // 0.5 shadowed + (m - 0.5) unshadowed. The frame already added the shadowed direct.
         vec3 shadowed, unshadowed;
         direct_irradiance(p, n, shadowed, unshadowed);
-        float m = pc.composite == COMPOSITE_FAKE ? pc.fake : 1.0;
+        float m = COMPOSITE == COMPOSITE_FAKE ? pc.fake : 1.0;
         added += albedo_over_pi * ((m - 0.5) * unshadowed - 0.5 * shadowed);
     }
     imageStore(hdr, pixel, imageLoad(hdr, pixel) + vec4(added, 0.0));

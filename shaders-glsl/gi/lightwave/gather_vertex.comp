@@ -47,7 +47,7 @@ float gathered(uint l, vec3 p, vec3 n) {
     if (triangle_id == 0u) return gather(l, p, n);
     vec3 value;
     for (int k = 0; k < 3; ++k) {
-        vec2 front_back = values[corners[k] * pc.light_count + l];
+        vec2 front_back = values[corners[k] * LIGHT_COUNT + l];
         value[k] = front ? front_back.x : front_back.y;
     }
     return dot(weights, value);

@@ -148,12 +148,6 @@ crate::push_constants! {
 crate::push_constants! {
     struct GatherPush {
         size: [u32; 2],
-        light_count: u32,
-        per_light: u32,
-        shadow_mode: u32,
-        maps_per_light: u32,
-        steps: u32,
-        composite: u32,
         fake: f32,
         gain: f32,
     }
@@ -259,6 +253,18 @@ impl LightWaveSettings {
             _ => ids::COMPOSITE_EQ_4_9,
         }
     }
+}
+
+/// The gather's constants (composite.glsl): what the settings fix, so that lavapipe, which runs
+/// both sides of every branch, runs only the composite and the visibility chosen.
+fn gather_specialization(s: &LightWaveSettings, light_count: u32) -> Specialization {
+    Specialization::new()
+        .with_u32(0, light_count)
+        .with_u32(1, s.rig.count())
+        .with_u32(2, s.shadows.id())
+        .with_u32(3, s.shadow_set.len() as u32)
+        .with_u32(4, s.steps)
+        .with_u32(5, s.composite_id())
 }
 
 /// Whether `composite` adds the gathered indirect light.
@@ -370,7 +376,7 @@ impl LightWave {
                 } else {
                     shaders::GI_LIGHTWAVE_GATHER_COMP
                 },
-                &none,
+                &gather_specialization(&s, light_count),
             )?,
             vertex: s
                 .per_vertex
@@ -462,12 +468,6 @@ impl GiMethod for LightWave {
         let s = &self.settings;
         let push = GatherPush {
             size: [view.width(), view.height()],
-            light_count: self.light_count,
-            per_light: s.rig.count(),
-            shadow_mode: s.shadows.id(),
-            maps_per_light: self.shadows.per_light(),
-            steps: s.steps,
-            composite: s.composite_id(),
             fake: s.fake,
             gain: self.gain as f32,
         };
