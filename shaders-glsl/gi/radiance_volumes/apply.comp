@@ -177,10 +177,20 @@ void main() {
     float n_v = dot(n, v);
     bool maps = SPECULAR && any(greaterThan(gloss.rgb, vec3(0.0))) && n_v > 0.0;
     uint missing = 0u;
-    vec3 e = interpolate(cascade, position.xyz, n, maps, 1.0 - blend, missing);
-    if (blend > 0.0) {
-        e = mix(e, interpolate(cascade + 1u, position.xyz, n, maps, blend, missing), blend);
+    // The serving cascade, then, for a pixel near its decision box's face, the next one: in a
+    // loop, not an `if`, since lavapipe runs both sides of an `if` for every pixel but leaves a
+    // loop once none of a batch's pixels goes on, so a batch with no pixel near a face
+    // interpolates one cascade.
+    vec3 served = vec3(0.0);
+    vec3 next = vec3(0.0);
+    for (uint round = 0u; round < 2u; ++round) {
+        vec3 e = interpolate(cascade + round, position.xyz, n, maps, round == 0u ? 1.0 - blend : blend,
+                             missing);
+        if (round == 0u) served = e;
+        else next = e;
+        if (!(blend > 0.0)) break;
     }
+    vec3 e = blend > 0.0 ? mix(served, next, blend) : served;
     if (missing > 0u) atomicAdd(state.missing, missing);
     vec3 radiance = imageLoad(gbuffer_albedo, pixel).rgb * INV_PI * e;
     if (maps) {
