@@ -27,6 +27,10 @@
 use super::passes::{DIRECT_LIGHTING, GBUFFER, MaterialTerms, TONE_MAP};
 use crate::gi::PixelPass;
 
+/// Direct lighting's flops per light at a covered pixel without a glossy lobe: incidence,
+/// cosine, shadow view, the 3x3 bilinear PCF and the accumulation (module comment).
+pub const FLOPS_PER_LIGHT: f64 = 146.0;
+
 /// What direct lighting moves at a pixel no surface covers: the depth read, the HDR pixel
 /// written.
 pub const BACKGROUND_BYTES: f64 = 4.0 + 16.0;
@@ -47,7 +51,7 @@ pub fn pixel_passes(lights: u32, terms: MaterialTerms) -> Vec<PixelPass> {
             bytes_per_pixel: 48.0 + optional(terms.emissive, 8.0) + optional(terms.glossy, 8.0),
             flops_per_pixel: 27.0
                 + optional(terms.emissive, 3.0)
-                + (146.0 + optional(terms.glossy, 40.0)) * f64::from(lights),
+                + (FLOPS_PER_LIGHT + optional(terms.glossy, 40.0)) * f64::from(lights),
             with_direct_lighting: false,
             background_bytes: Some(BACKGROUND_BYTES),
         },

@@ -45,6 +45,7 @@ pub fn normalise_pass() -> PixelPass {
         background_bytes: Some(4.0),
     }
 }
+
 /// Format of the splat buffer: Σ w E' (rgb), Σ w.
 const SPLAT_FORMAT: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
 

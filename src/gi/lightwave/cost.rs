@@ -36,6 +36,7 @@
 
 use super::{LightWaveSettings, ShadowMode};
 use crate::gi::PixelPass;
+use crate::render::cost::FLOPS_PER_LIGHT;
 
 /// The pass's name in the profile.
 pub const GATHER: &str = "lightwave gather";
@@ -52,7 +53,7 @@ const PER_VERTEX_PIXEL: f64 = 71.0;
 const PER_VERTEX_LIGHT: f64 = 8.0;
 const CLIP: f64 = 41.0;
 const TAP: f64 = 35.0;
-const DIRECT_PER_LIGHT: f64 = 146.0 + 6.0;
+const DIRECT_PER_LIGHT: f64 = FLOPS_PER_LIGHT + 6.0;
 
 /// The gather pass's bound with `lights` lights and `maps_per_light` VPL shadow maps per light,
 /// or None for the direct-only composite.
